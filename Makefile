@@ -1,0 +1,31 @@
+# A thin wrapper over CMake. `make demo` and `make test` install missing Debian packages first.
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
+
+.PHONY: all deps configure build demo test bench clean
+
+all: build
+
+deps:
+	@./scripts/install-deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD_DIR) $(CMAKE_FLAGS) > $(BUILD_DIR).configure.log 2>&1 || \
+	  (cat $(BUILD_DIR).configure.log; exit 1)
+
+build: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+demo: build
+	@$(BUILD_DIR)/daemon/saccade demo
+
+test: build
+	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# Speed on the real milk scene (needs ../shared/data); see docs/BENCHMARKS.md.
+bench: build
+	@./scripts/bench.sh $(BUILD_DIR)
+
+clean:
+	@rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log

@@ -1,0 +1,386 @@
+#include "core/recognition.h"
+
+#include <flann/flann.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <numeric>
+#include <unordered_map>
+
+namespace saccade {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+bool Fail(std::string* error, const std::string& message) {
+  if (error) *error = message;
+  return false;
+}
+
+bool PositiveFinite(float v) { return std::isfinite(v) && v > 0; }
+
+bool FinitePoint(const PointT& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+
+}  // namespace
+
+bool RecognitionOptions::IsValid(std::string* error) const {
+  if (scene_normal_neighbors < 3) return Fail(error, "scene_normal_neighbors must be >= 3");
+  if (model_normal_neighbors < 3) return Fail(error, "model_normal_neighbors must be >= 3");
+  const std::pair<const char*, float> radii[] = {
+      {"scene_keypoint_radius_m", scene_keypoint_radius_m},
+      {"scene_shot_radius_m", scene_shot_radius_m},
+      {"scene_lrf_radius_m", scene_lrf_radius_m},
+      {"model_keypoint_radius_m", model_keypoint_radius_m},
+      {"model_shot_radius_m", model_shot_radius_m},
+      {"model_lrf_radius_m", model_lrf_radius_m},
+      {"max_descriptor_sqr_distance", max_descriptor_sqr_distance},
+      {"hough_bin_m", hough_bin_m},
+      {"pose_inlier_threshold_m", pose_inlier_threshold_m},
+  };
+  for (const auto& [name, value] : radii)
+    if (!PositiveFinite(value)) return Fail(error, std::string(name) + " must be finite and > 0");
+  if (!std::isfinite(max_described_density_m) || max_described_density_m < 0)
+    return Fail(error, "max_described_density_m must be finite and >= 0");
+  if (hough_threshold < 1) return Fail(error, "hough_threshold must be >= 1");
+  if (match_branching < 2) return Fail(error, "match_branching must be >= 2");
+  if (match_checks < 1) return Fail(error, "match_checks must be >= 1");
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Model
+
+struct ModelDescription::Index {
+  std::vector<float> data;  // owned copy the FLANN matrix points into
+  std::unique_ptr<flann::Index<flann::L2<float>>> flann;
+};
+
+ModelDescription::~ModelDescription() = default;
+ModelDescription::ModelDescription(ModelDescription&&) noexcept = default;
+ModelDescription& ModelDescription::operator=(ModelDescription&&) noexcept = default;
+
+std::pair<int, float> ModelDescription::Nearest(const float* shot) const {
+  int index = -1;
+  float dist = std::numeric_limits<float>::infinity();
+  flann::Matrix<float> query(const_cast<float*>(shot), 1, kShotLength);
+  flann::Matrix<int> idx(&index, 1, 1);
+  flann::Matrix<float> d(&dist, 1, 1);
+  flann::SearchParams params(checks_);
+  params.cores = 1;
+  index_->flann->knnSearch(query, idx, d, 1, params);
+  return {index, dist};
+}
+
+std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& options,
+                                              std::string* error) {
+  ModelDescription out;
+  // Only finite points make the model; its frame and units stay those of the file.
+  for (const auto& p : model.points)
+    if (FinitePoint(p)) out.cloud_.push_back(p);
+  if (out.cloud_.empty()) {
+    Fail(error, "model has no finite point");
+    return std::nullopt;
+  }
+  out.cloud_.width = static_cast<std::uint32_t>(out.cloud_.size());
+  out.cloud_.height = 1;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& p : out.cloud_.points) sum += p.getVector3fMap().cast<double>();
+  out.centroid_ = (sum / static_cast<double>(out.cloud_.size())).cast<float>();
+
+  const std::vector<std::uint8_t> mask(out.cloud_.size(), 1);
+  const Normals normals = KnnNormals(out.cloud_, mask, options.model_normal_neighbors);
+  std::vector<int> all(out.cloud_.size());
+  std::iota(all.begin(), all.end(), 0);
+  const std::vector<int> keypoints =
+      VoxelRepresentatives(out.cloud_, all, options.model_keypoint_radius_m);
+  const auto search = MakeKdTreeSearch(out.cloud_, mask);
+  DescribeOptions describe;
+  describe.shot_radius_m = options.model_shot_radius_m;
+  describe.lrf_radius_m = options.model_lrf_radius_m;
+  out.descriptors_ = DescribeKeypoints(out.cloud_, normals, keypoints, *search, describe);
+  if (out.descriptors_.size() == 0) {
+    Fail(error, "model has no describable keypoint (too few points for the SHOT radius?)");
+    return std::nullopt;
+  }
+  out.index_ = std::make_unique<ModelDescription::Index>();
+  out.index_->data = out.descriptors_.shot;
+  flann::Matrix<float> data(out.index_->data.data(), out.descriptors_.size(), kShotLength);
+  // A hierarchical k-means tree with k-means++ seeding: FLANN draws those seeds from std::rand,
+  // which we seed, so the index (and every match) is the same on every run. (FLANN's
+  // randomized kd-trees shuffle with std::random_device and cannot be made repeatable.)
+  std::srand(options.match_seed);
+  out.index_->flann = std::make_unique<flann::Index<flann::L2<float>>>(
+      data, flann::KMeansIndexParams(options.match_branching, 11, flann::FLANN_CENTERS_KMEANSPP));
+  out.index_->flann->buildIndex();
+  out.checks_ = options.match_checks;
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hough grouping
+
+namespace {
+
+struct CellKey {
+  int x, y, z;
+  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct CellHash {
+  std::size_t operator()(const CellKey& k) const {
+    return (static_cast<std::size_t>(k.x) * 73856093u) ^ (static_cast<std::size_t>(k.y) * 19349663u) ^
+           (static_cast<std::size_t>(k.z) * 83492791u);
+  }
+};
+
+// Rigid transform (no scale) taking `from` onto `to` in the least-squares sense.
+Eigen::Matrix4f FitRigid(const std::vector<Eigen::Vector3f>& from,
+                         const std::vector<Eigen::Vector3f>& to) {
+  Eigen::Matrix3Xf a(3, from.size()), b(3, to.size());
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    a.col(i) = from[i];
+    b.col(i) = to[i];
+  }
+  return Eigen::umeyama(a, b, false);
+}
+
+}  // namespace
+
+std::vector<Detection> HoughGroup(const Descriptors& model, const Cloud& model_cloud,
+                                  const Eigen::Vector3f& model_centroid, const Descriptors& scene,
+                                  const Cloud& scene_cloud,
+                                  const std::vector<std::pair<int, int>>& correspondences,
+                                  const RecognitionOptions& options) {
+  const float bin = options.hough_bin_m;
+  // Each correspondence votes for where the model centroid lies in the scene: the centroid's
+  // offset in the model keypoint's local frame, carried into the scene keypoint's frame.
+  std::vector<Eigen::Vector3f> votes;
+  std::vector<int> voter;
+  for (std::size_t c = 0; c < correspondences.size(); ++c) {
+    const auto [mi, si] = correspondences[c];
+    const Eigen::Vector3f pm = model_cloud[model.keypoint[mi]].getVector3fMap();
+    const Eigen::Vector3f ps = scene_cloud[scene.keypoint[si]].getVector3fMap();
+    const Eigen::Vector3f local = model.lrf[mi] * (model_centroid - pm);
+    const Eigen::Vector3f vote = ps + scene.lrf[si].transpose() * local;
+    if (!vote.allFinite()) continue;
+    votes.push_back(vote);
+    voter.push_back(static_cast<int>(c));
+  }
+  // Trilinear interpolation spreads each vote over the 8 cells around it.
+  std::unordered_map<CellKey, float, CellHash> acc;
+  for (const auto& v : votes) {
+    const Eigen::Vector3f s = v / bin - Eigen::Vector3f::Constant(0.5f);
+    const Eigen::Vector3f f = s.array().floor();
+    const Eigen::Vector3f t = s - f;
+    for (int dz = 0; dz < 2; ++dz)
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+          const float w = (dx ? t.x() : 1 - t.x()) * (dy ? t.y() : 1 - t.y()) *
+                          (dz ? t.z() : 1 - t.z());
+          acc[{static_cast<int>(f.x()) + dx, static_cast<int>(f.y()) + dy,
+               static_cast<int>(f.z()) + dz}] += w;
+        }
+  }
+  // Peaks: cells at or over the threshold that no neighbour beats (ties go to the lower key).
+  std::vector<std::pair<CellKey, float>> peaks;
+  for (const auto& [key, value] : acc) {
+    if (value < options.hough_threshold) continue;
+    bool is_max = true;
+    for (int dz = -1; dz <= 1 && is_max; ++dz)
+      for (int dy = -1; dy <= 1 && is_max; ++dy)
+        for (int dx = -1; dx <= 1 && is_max; ++dx) {
+          if (!dx && !dy && !dz) continue;
+          const CellKey n{key.x + dx, key.y + dy, key.z + dz};
+          auto it = acc.find(n);
+          if (it == acc.end()) continue;
+          if (it->second > value ||
+              (it->second == value && std::tie(n.x, n.y, n.z) < std::tie(key.x, key.y, key.z)))
+            is_max = false;
+        }
+    if (is_max) peaks.emplace_back(key, value);
+  }
+  std::sort(peaks.begin(), peaks.end(), [](const auto& a, const auto& b) {
+    return a.second != b.second ? a.second > b.second
+                                : std::tie(a.first.x, a.first.y, a.first.z) <
+                                      std::tie(b.first.x, b.first.y, b.first.z);
+  });
+
+  std::vector<Detection> out;
+  const float thr2 = options.pose_inlier_threshold_m * options.pose_inlier_threshold_m;
+  for (const auto& [key, value] : peaks) {
+    // The peak's correspondences: votes that reached its cell through the interpolation.
+    const Eigen::Vector3f centre =
+        (Eigen::Vector3f(key.x, key.y, key.z) + Eigen::Vector3f::Constant(0.5f)) * bin;
+    std::vector<int> members;
+    for (std::size_t v = 0; v < votes.size(); ++v)
+      if (((votes[v] - centre).cwiseAbs().array() < bin).all()) members.push_back(voter[v]);
+    if (static_cast<int>(members.size()) < 3) continue;
+    Eigen::Matrix4f pose = Eigen::Matrix4f::Identity();
+    // Fit, drop correspondences the fit does not explain, fit again (at most a few rounds).
+    for (int round = 0; round < 4; ++round) {
+      std::vector<Eigen::Vector3f> from, to;
+      for (int c : members) {
+        from.push_back(model_cloud[model.keypoint[correspondences[c].first]].getVector3fMap());
+        to.push_back(scene_cloud[scene.keypoint[correspondences[c].second]].getVector3fMap());
+      }
+      pose = FitRigid(from, to);
+      std::vector<int> inliers;
+      for (std::size_t i = 0; i < members.size(); ++i) {
+        const Eigen::Vector3f mapped = pose.topLeftCorner<3, 3>() * from[i] + pose.topRightCorner<3, 1>();
+        if ((mapped - to[i]).squaredNorm() <= thr2) inliers.push_back(members[i]);
+      }
+      if (inliers.size() == members.size() || inliers.size() < 3) {
+        members.swap(inliers);
+        break;
+      }
+      members.swap(inliers);
+    }
+    if (static_cast<int>(members.size()) < options.hough_threshold) continue;
+    if (!pose.allFinite()) continue;
+    const Eigen::Matrix3f R = pose.topLeftCorner<3, 3>();
+    if (std::abs(R.determinant() - 1.0f) > 1e-3f) continue;  // only proper rotations leave
+    Detection d;
+    d.model_to_scene = pose;
+    d.votes = static_cast<int>(members.size());
+    d.centroid_m = R * model_centroid + pose.topRightCorner<3, 1>();
+    for (int c : members)
+      d.correspondences.emplace_back(model.keypoint[correspondences[c].first],
+                                     scene.keypoint[correspondences[c].second]);
+    // Two peaks of one object (a split vote) are one instance: keep the stronger.
+    bool duplicate = false;
+    for (const Detection& kept : out)
+      if ((kept.centroid_m - d.centroid_m).norm() < 2.0f * bin) duplicate = true;
+    if (!duplicate) out.push_back(std::move(d));
+  }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Detection& a, const Detection& b) { return a.votes > b.votes; });
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene
+
+std::size_t RecognitionStats::TotalPoints() const {
+  return std::accumulate(level_points.begin(), level_points.end(), std::size_t{0});
+}
+std::size_t RecognitionStats::TotalKeypoints() const {
+  return std::accumulate(level_keypoints.begin(), level_keypoints.end(), std::size_t{0});
+}
+
+RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
+                            const SceneQuery& query, const RecognitionOptions& options,
+                            const ParallelFor& parallel_for, std::string* error) {
+  RecognitionResult result;
+  auto& stats = result.stats;
+  const auto t_total = Clock::now();
+  auto t = Clock::now();
+
+  // 1. Which points to keep, per level, and with which keypoint radius. Only the levels fine
+  // enough to describe are computed: the periphery's points would never be used.
+  std::optional<CameraIntrinsics> intrinsics = query.intrinsics;
+  if (!intrinsics && scene.height > 1) intrinsics = EstimateIntrinsics(scene);
+  const bool organized = intrinsics.has_value() && scene.height > 1;
+  std::vector<std::vector<int>> level_points;  // indices into `scene`
+  std::vector<float> level_radius;
+  if (query.foveated) {
+    const auto bounds = BoundingBox(scene);
+    if (!bounds) {
+      Fail(error, "scene has no finite point");
+      return result;
+    }
+    const FoveaGeometry geometry = ComputeFoveaGeometry(query.fovea, *bounds, query.fovea_m);
+    int first = query.fovea.levels_m;
+    while (first > 0 && LevelDensity(query.fovea, first - 1) <= options.max_described_density_m)
+      --first;
+    level_points = FoveateIndices(scene, query.fovea, geometry, first,
+                                  organized ? &*intrinsics : nullptr);
+    for (int k = 0; k <= query.fovea.levels_m; ++k)
+      level_radius.push_back(LevelKeypointRadius(query.fovea, k));
+    result.fovea = geometry;
+  } else {
+    level_points.emplace_back();
+    for (int i = 0, n = static_cast<int>(scene.size()); i < n; ++i)
+      if (FinitePoint(scene[i])) level_points.back().push_back(i);
+    if (level_points.back().empty()) {
+      Fail(error, "scene has no finite point");
+      return result;
+    }
+    level_radius.push_back(options.scene_keypoint_radius_m);
+  }
+  std::vector<std::uint8_t> mask(scene.size(), 0);
+  for (const auto& level : level_points)
+    for (int i : level) mask[i] = 1;
+  for (const auto& level : level_points) stats.level_points.push_back(level.size());
+  stats.stage_ms.emplace_back("foveate", MsSince(t));
+
+  // 2. Normals from the full-resolution geometry, only where a point is kept.
+  t = Clock::now();
+  const Normals normals =
+      organized ? OrganizedNormals(scene, *intrinsics, mask, options.scene_normal_neighbors,
+                                   parallel_for)
+                : KnnNormals(scene, mask, options.scene_normal_neighbors);
+  stats.stage_ms.emplace_back("normals", MsSince(t));
+
+  // 3. Keypoints per level, each with its own radius.
+  t = Clock::now();
+  std::vector<int> keypoints;
+  for (std::size_t k = 0; k < level_points.size(); ++k) {
+    const auto kp = VoxelRepresentatives(scene, level_points[k], level_radius[k]);
+    stats.level_keypoints.push_back(kp.size());
+    keypoints.insert(keypoints.end(), kp.begin(), kp.end());
+  }
+  stats.stage_ms.emplace_back("keypoints", MsSince(t));
+
+  // 4. SHOT and its local frame, on the kept points as the search surface.
+  t = Clock::now();
+  const auto search = organized ? MakeOrganizedSearch(scene, *intrinsics, mask)
+                                : MakeKdTreeSearch(scene, mask);
+  DescribeOptions describe;
+  describe.shot_radius_m = options.scene_shot_radius_m;
+  describe.lrf_radius_m = options.scene_lrf_radius_m;
+  const Descriptors scene_desc =
+      DescribeKeypoints(scene, normals, keypoints, *search, describe, parallel_for);
+  stats.described = scene_desc.size();
+  stats.stage_ms.emplace_back("describe", MsSince(t));
+
+  // 5. Nearest model descriptor of each scene descriptor.
+  t = Clock::now();
+  std::vector<std::pair<int, float>> nearest(scene_desc.size());
+  parallel_for(scene_desc.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) nearest[i] = model.Nearest(scene_desc.Row(i));
+  });
+  std::vector<std::pair<int, int>> correspondences;
+  for (std::size_t i = 0; i < nearest.size(); ++i)
+    if (nearest[i].first >= 0 && nearest[i].second < options.max_descriptor_sqr_distance)
+      correspondences.emplace_back(nearest[i].first, static_cast<int>(i));
+  stats.correspondences = correspondences.size();
+  stats.stage_ms.emplace_back("match", MsSince(t));
+
+  // 6. Hough voting and pose per instance.
+  t = Clock::now();
+  result.instances = HoughGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc,
+                                scene, correspondences, options);
+  stats.stage_ms.emplace_back("group", MsSince(t));
+  stats.stage_ms.emplace_back("total", MsSince(t_total));
+  return result;
+}
+
+PoseError ComparePoses(const Eigen::Matrix4f& estimate, const Eigen::Matrix4f& truth,
+                       const Eigen::Vector3f& model_point) {
+  const Eigen::Affine3d e(estimate.cast<double>()), g(truth.cast<double>());
+  PoseError err;
+  err.translation_m = (e * model_point.cast<double>() - g * model_point.cast<double>()).norm();
+  const Eigen::Matrix3d dR = e.linear().transpose() * g.linear();
+  const double c = std::clamp((dR.trace() - 1.0) / 2.0, -1.0, 1.0);
+  err.rotation_deg = std::acos(c) * 180.0 / M_PI;
+  return err;
+}
+
+}  // namespace saccade

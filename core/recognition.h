@@ -1,0 +1,133 @@
+// Object recognition by correspondence grouping (paper §4): SHOT descriptors with local
+// reference frames, nearest-neighbour matching in descriptor space, 3D Hough voting.
+// The model is described once and reused for every scene; scenes may be foveated or plain.
+#pragma once
+
+#include "core/features.h"
+#include "core/foveation.h"
+#include "core/parallel.h"
+#include "core/types.h"
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace saccade {
+
+/// Correspondence-grouping parameters (paper Table 1, in metres). "scene" values apply to the
+/// scene cloud, "model" values to the model cloud.
+struct RecognitionOptions {
+  int scene_normal_neighbors = 10;          // k_ns
+  float scene_keypoint_radius_m = 0.03f;    // r_ks (plain recognition only)
+  float scene_shot_radius_m = 0.02f;        // r_ss
+  float scene_lrf_radius_m = 0.015f;        // r_ls
+  int model_normal_neighbors = 10;          // k_nm
+  float model_keypoint_radius_m = 0.01f;    // r_km
+  float model_shot_radius_m = 0.02f;        // r_sm
+  float model_lrf_radius_m = 0.015f;        // r_lm
+  float max_descriptor_sqr_distance = 0.25f;  // d²_max: accept a match below this
+  float hough_bin_m = 0.01f;                // L_h
+  int hough_threshold = 5;                  // V_h: minimum votes of an instance
+  /// A correspondence stays in an instance when the instance's pose maps its model keypoint
+  /// within this distance of its scene keypoint.
+  float pose_inlier_threshold_m = 0.02f;
+  /// Levels coarser than this (by d_k) are not described: a SHOT support of a few points is
+  /// noise (PERFORMANCE.md §2). Their points still count as surface for finer levels.
+  float max_described_density_m = 0.01f;
+  /// Matching: a hierarchical k-means tree over the model descriptors (branching factor) and
+  /// the leaves checked per query (more: closer to exact, slower).
+  int match_branching = 16;
+  int match_checks = 32;
+  unsigned match_seed = 42;
+
+  bool IsValid(std::string* error) const;
+};
+
+/// The model, described once: its keypoints, their frames and descriptors, and a search
+/// index over the descriptors. Immutable after DescribeModel; safe to share between threads.
+class ModelDescription {
+ public:
+  ~ModelDescription();
+  ModelDescription(ModelDescription&&) noexcept;
+  ModelDescription& operator=(ModelDescription&&) noexcept;
+
+  const Cloud& cloud() const { return cloud_; }
+  const Descriptors& descriptors() const { return descriptors_; }
+  const Eigen::Vector3f& centroid() const { return centroid_; }  // model frame, metres
+
+  /// Nearest model descriptor of `shot` (kShotLength floats): index into descriptors() and
+  /// squared distance.
+  std::pair<int, float> Nearest(const float* shot) const;
+
+ private:
+  friend std::optional<ModelDescription> DescribeModel(const Cloud&, const RecognitionOptions&,
+                                                       std::string*);
+  ModelDescription() = default;
+  Cloud cloud_;
+  Descriptors descriptors_;
+  Eigen::Vector3f centroid_ = Eigen::Vector3f::Zero();
+  struct Index;
+  std::unique_ptr<Index> index_;
+  int checks_ = 64;
+};
+
+/// Describes the model (normals k_nm, uniform-sampling keypoints r_km, SHOT r_sm, LRF r_lm).
+/// nullopt with `error` set when the cloud has no finite point or no describable keypoint.
+std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& options,
+                                              std::string* error);
+
+/// What a recognition run did, for logs and benchmarks.
+struct RecognitionStats {
+  std::vector<std::size_t> level_points;     // kept points per level (one level when plain)
+  std::vector<std::size_t> level_keypoints;  // keypoints per level
+  std::size_t described = 0;                 // keypoints with a valid descriptor
+  std::size_t correspondences = 0;           // matches below d²_max
+  /// Milliseconds per stage: foveate, normals, keypoints, describe, match, group, total.
+  std::vector<std::pair<std::string, double>> stage_ms;
+  std::size_t TotalPoints() const;
+  std::size_t TotalKeypoints() const;
+};
+
+struct RecognitionResult {
+  std::vector<Detection> instances;  // by votes, most first
+  RecognitionStats stats;
+  std::optional<FoveaGeometry> fovea;  // set when foveated
+};
+
+/// Where to look. Plain: no foveation, one keypoint radius r_ks over the whole scene.
+struct SceneQuery {
+  bool foveated = true;
+  Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();  // camera frame; used when foveated
+  FoveaOptions fovea;
+  /// Intrinsics of an organized scene; estimated from the cloud when absent.
+  std::optional<CameraIntrinsics> intrinsics;
+};
+
+/// Recognizes the model in the scene. Expected outcomes (no finite point, nothing found) are
+/// values: an empty instance list, with `error` set only when the scene could not be processed.
+/// Preconditions: options.IsValid(), query.fovea.IsValid().
+RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
+                            const SceneQuery& query, const RecognitionOptions& options,
+                            const ParallelFor& parallel_for = SerialFor,
+                            std::string* error = nullptr);
+
+/// Groups correspondences by 3D Hough voting of the model centroid (paper Algorithm 5) and
+/// estimates each instance's pose from its inlying correspondences (proper rotations only).
+/// `correspondences` are (model descriptor index, scene descriptor index).
+std::vector<Detection> HoughGroup(const Descriptors& model, const Cloud& model_cloud,
+                                  const Eigen::Vector3f& model_centroid,
+                                  const Descriptors& scene, const Cloud& scene_cloud,
+                                  const std::vector<std::pair<int, int>>& correspondences,
+                                  const RecognitionOptions& options);
+
+/// Translation error at a point (the model centroid) and rotation angle error, between poses.
+struct PoseError {
+  double translation_m = 0;
+  double rotation_deg = 0;
+};
+PoseError ComparePoses(const Eigen::Matrix4f& estimate, const Eigen::Matrix4f& truth,
+                       const Eigen::Vector3f& model_point);
+
+}  // namespace saccade

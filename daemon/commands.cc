@@ -1,0 +1,328 @@
+#include "daemon/commands.h"
+
+#include "core/recognition.h"
+#include "core/reference_pipeline.h"
+#include "daemon/args.h"
+#include "daemon/tbb_parallel.h"
+#include "io/cloud_io.h"
+#include "io/config.h"
+#include "io/json.h"
+
+#include <algorithm>
+#include <iomanip>
+#include <ostream>
+
+namespace saccade {
+namespace {
+
+// Everything a subcommand needs before it can run: options, model and scene.
+struct Inputs {
+  RecognitionConfig config;
+  Cloud model;
+  Cloud scene;
+};
+
+int Usage(std::ostream& err, const std::string& command, const std::string& message) {
+  err << "saccade " << command << ": " << message << "\n";
+  return kExitUsage;
+}
+
+// Loads --config, --model and --scene; prints one line and returns the exit code on failure.
+std::optional<int> LoadInputs(const Args& args, const std::string& command, Inputs* in,
+                              std::ostream& err) {
+  std::string error;
+  if (args.Has("config") && !LoadRecognitionConfig(args.Get("config"), &in->config, &error)) {
+    err << "saccade " << command << ": " << error << "\n";
+    return kExitFailure;
+  }
+  for (const char* name : {"model", "scene"}) {
+    if (!args.Has(name)) return Usage(err, command, std::string("missing --") + name);
+    auto cloud = LoadCloud(args.Get(name), &error);
+    if (!cloud) {
+      err << "saccade " << command << ": " << error << "\n";
+      return kExitFailure;
+    }
+    if (CountFinite(*cloud) == 0) {
+      err << "saccade " << command << ": " << args.Get(name) << ": cloud has no valid point\n";
+      return kExitFailure;
+    }
+    (std::string(name) == "model" ? in->model : in->scene) = std::move(*cloud);
+  }
+  return std::nullopt;
+}
+
+void WriteMatrix(JsonWriter& j, const Eigen::Matrix4f& m) {
+  j.BeginArray();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) j.Value(static_cast<double>(m(r, c)));
+  j.EndArray();
+}
+
+void WriteVector(JsonWriter& j, const Eigen::Vector3f& v) {
+  j.BeginArray().Value(double(v.x())).Value(double(v.y())).Value(double(v.z())).EndArray();
+}
+
+std::string ResultJson(const RecognitionResult& r) {
+  JsonWriter j;
+  j.BeginObject().Key("instances").BeginArray();
+  for (const Detection& d : r.instances) {
+    j.BeginObject().Key("pose");
+    WriteMatrix(j, d.model_to_scene);
+    j.Key("votes").Value(d.votes).Key("centroid");
+    WriteVector(j, d.centroid_m);
+    j.EndObject();
+  }
+  j.EndArray().Key("timing_ms").BeginObject();
+  for (const auto& [stage, ms] : r.stats.stage_ms) j.Key(stage).Value(ms);
+  j.EndObject();
+  j.Key("points").Value(r.stats.TotalPoints()).Key("keypoints").Value(r.stats.TotalKeypoints());
+  j.Key("levels").BeginArray();
+  for (std::size_t k = 0; k < r.stats.level_points.size(); ++k)
+    j.BeginObject()
+        .Key("points")
+        .Value(r.stats.level_points[k])
+        .Key("keypoints")
+        .Value(r.stats.level_keypoints[k])
+        .EndObject();
+  j.EndArray();
+  j.Key("described").Value(r.stats.described).Key("correspondences").Value(r.stats.correspondences);
+  j.EndObject();
+  return j.str();
+}
+
+void PrintResult(const RecognitionResult& r, std::ostream& out) {
+  out << std::fixed << std::setprecision(4);
+  out << r.instances.size() << " instance(s)\n";
+  for (std::size_t i = 0; i < r.instances.size(); ++i) {
+    const Detection& d = r.instances[i];
+    out << "instance " << i << ": votes " << d.votes << ", centroid (" << d.centroid_m.x() << ", "
+        << d.centroid_m.y() << ", " << d.centroid_m.z() << ") m, pose model->scene:\n";
+    for (int row = 0; row < 4; ++row) {
+      out << "  ";
+      for (int c = 0; c < 4; ++c) out << std::setw(10) << d.model_to_scene(row, c);
+      out << "\n";
+    }
+  }
+  out << "level  points  keypoints\n";
+  for (std::size_t k = 0; k < r.stats.level_points.size(); ++k)
+    out << std::setw(5) << k << std::setw(8) << r.stats.level_points[k] << std::setw(11)
+        << r.stats.level_keypoints[k] << "\n";
+  out << "described " << r.stats.described << ", correspondences " << r.stats.correspondences
+      << "\n";
+  out << std::setprecision(2) << "timing ms:";
+  for (const auto& [stage, ms] : r.stats.stage_ms) out << " " << stage << " " << ms;
+  out << "\n";
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
+  Args args;
+  std::string error;
+  if (!args.Parse(argv, {"model", "scene", "fovea", "config", "threads"}, {"plain", "json"},
+                  &error))
+    return Usage(err, "recognize", error);
+  SceneQuery query;
+  query.foveated = !args.Has("plain");
+  if (args.Has("fovea")) {
+    auto f = Args::ParseVector3(args.Get("fovea"));
+    if (!f) return Usage(err, "recognize", "--fovea expects x,y,z in metres, got '" +
+                                               args.Get("fovea") + "'");
+    query.fovea_m = *f;
+  } else if (query.foveated) {
+    return Usage(err, "recognize", "missing --fovea x,y,z (or --plain)");
+  }
+  int threads = 0;
+  if (args.Has("threads")) {
+    auto t = Args::ParsePositiveInt(args.Get("threads"));
+    if (!t) return Usage(err, "recognize", "--threads expects a positive integer");
+    threads = *t;
+  }
+  Inputs in;
+  if (auto code = LoadInputs(args, "recognize", &in, err)) return *code;
+  query.fovea = in.config.fovea;
+  auto model = DescribeModel(in.model, in.config.recognition, &error);
+  if (!model) {
+    err << "saccade recognize: " << args.Get("model") << ": " << error << "\n";
+    return kExitFailure;
+  }
+  const RecognitionResult result = Recognize(*model, in.scene, query, in.config.recognition,
+                                             MakeTbbParallelFor(threads), &error);
+  if (!error.empty()) {
+    err << "saccade recognize: " << args.Get("scene") << ": " << error << "\n";
+    return kExitFailure;
+  }
+  if (args.Has("json"))
+    out << ResultJson(result) << "\n";
+  else
+    PrintResult(result, out);
+  return kExitOk;
+}
+
+namespace {
+
+// One configuration's outcome over the bench frames.
+struct BenchRun {
+  std::string name;
+  std::vector<RecognitionResult> runs;
+  std::optional<PoseError> error;  // of the best instance, when --truth is given
+  bool found = false;
+};
+
+void Judge(BenchRun* run, const std::optional<Eigen::Matrix4f>& truth,
+           const Eigen::Vector3f& model_centroid) {
+  const RecognitionResult& last = run->runs.back();
+  if (last.instances.empty()) return;
+  if (!truth) {
+    run->found = true;
+    return;
+  }
+  // The instance closest to the truth is the one that found the model; others are false.
+  for (const Detection& d : last.instances) {
+    const PoseError e = ComparePoses(d.model_to_scene, *truth, model_centroid);
+    if (!run->error || e.translation_m < run->error->translation_m) run->error = e;
+  }
+  run->found = run->error->translation_m < 0.01 && run->error->rotation_deg < 3.0;
+}
+
+std::vector<std::pair<std::string, double>> StageMedians(const BenchRun& run) {
+  std::vector<std::pair<std::string, double>> out;
+  for (std::size_t s = 0; s < run.runs.front().stats.stage_ms.size(); ++s) {
+    std::vector<double> v;
+    for (const auto& r : run.runs) v.push_back(r.stats.stage_ms[s].second);
+    out.emplace_back(run.runs.front().stats.stage_ms[s].first, Median(v));
+  }
+  return out;
+}
+
+double TotalMedian(const BenchRun& run) {
+  for (const auto& [stage, ms] : StageMedians(run))
+    if (stage == "total") return ms;
+  return 0;
+}
+
+}  // namespace
+
+int RunBench(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
+  Args args;
+  std::string error;
+  if (!args.Parse(argv, {"model", "scene", "fovea", "truth", "frames", "config", "threads"},
+                  {"json"}, &error))
+    return Usage(err, "bench", error);
+  if (!args.Has("fovea")) return Usage(err, "bench", "missing --fovea x,y,z");
+  auto fovea = Args::ParseVector3(args.Get("fovea"));
+  if (!fovea)
+    return Usage(err, "bench", "--fovea expects x,y,z in metres, got '" + args.Get("fovea") + "'");
+  int frames = 10, threads = 0;
+  if (args.Has("frames")) {
+    auto f = Args::ParsePositiveInt(args.Get("frames"));
+    if (!f) return Usage(err, "bench", "--frames expects a positive integer");
+    frames = *f;
+  }
+  if (args.Has("threads")) {
+    auto t = Args::ParsePositiveInt(args.Get("threads"));
+    if (!t) return Usage(err, "bench", "--threads expects a positive integer");
+    threads = *t;
+  }
+  Inputs in;
+  if (auto code = LoadInputs(args, "bench", &in, err)) return *code;
+  std::optional<Eigen::Matrix4f> truth;
+  if (args.Has("truth")) {
+    truth = LoadPose(args.Get("truth"), &error);
+    if (!truth) {
+      err << "saccade bench: " << error << "\n";
+      return kExitFailure;
+    }
+  }
+  const ParallelFor parallel_for = MakeTbbParallelFor(threads);
+
+  // The plain gold standard (paper configuration 10): PCL's stock stages, r_ks = 0.02.
+  RecognitionOptions gold = in.config.recognition;
+  gold.scene_keypoint_radius_m = 0.02f;
+  auto reference_model = DescribeReferenceModel(in.model, gold, &error);
+  auto model = DescribeModel(in.model, in.config.recognition, &error);
+  if (!reference_model || !model) {
+    err << "saccade bench: " << args.Get("model") << ": " << error << "\n";
+    return kExitFailure;
+  }
+  SceneQuery foveated;
+  foveated.fovea = in.config.fovea;
+  foveated.fovea_m = *fovea;
+  SceneQuery plain_fast = foveated;
+  plain_fast.foveated = false;
+
+  BenchRun plain{"plain", {}, {}, false}, plain_same{"plain_saccade_stages", {}, {}, false},
+      fov{"foveated", {}, {}, false};
+  // One warm-up each (caches, page faults, TBB threads), then the measured frames.
+  for (int i = 0; i <= frames; ++i) {
+    auto r = RecognizeReference(*reference_model, in.scene, gold, &error);
+    if (i > 0) plain.runs.push_back(std::move(r));
+  }
+  RecognitionOptions gold_fast = in.config.recognition;
+  gold_fast.scene_keypoint_radius_m = 0.02f;
+  for (int i = 0; i <= frames; ++i) {
+    auto r = Recognize(*model, in.scene, plain_fast, gold_fast, parallel_for, &error);
+    if (i > 0) plain_same.runs.push_back(std::move(r));
+  }
+  for (int i = 0; i <= frames; ++i) {
+    auto r = Recognize(*model, in.scene, foveated, in.config.recognition, parallel_for, &error);
+    if (i > 0) fov.runs.push_back(std::move(r));
+  }
+  const Eigen::Vector3f centroid = model->centroid();
+  for (BenchRun* run : {&plain, &plain_same, &fov}) Judge(run, truth, centroid);
+  const double speedup = TotalMedian(plain) / std::max(1e-9, TotalMedian(fov));
+  const double speedup_same = TotalMedian(plain_same) / std::max(1e-9, TotalMedian(fov));
+
+  if (args.Has("json")) {
+    JsonWriter j;
+    j.BeginObject();
+    for (const BenchRun* run : {&plain, &plain_same, &fov}) {
+      j.Key(run->name).BeginObject().Key("median_ms").Value(TotalMedian(*run));
+      j.Key("found").Value(run->found);
+      j.Key("instances").Value(run->runs.back().instances.size());
+      j.Key("translation_error_m");
+      run->error ? j.Value(run->error->translation_m) : j.Null();
+      j.Key("rotation_error_deg");
+      run->error ? j.Value(run->error->rotation_deg) : j.Null();
+      j.Key("points").Value(run->runs.back().stats.TotalPoints());
+      j.Key("keypoints").Value(run->runs.back().stats.TotalKeypoints());
+      j.Key("stages_ms").BeginObject();
+      for (const auto& [stage, ms] : StageMedians(*run)) j.Key(stage).Value(ms);
+      j.EndObject().EndObject();
+    }
+    j.Key("speedup").Value(speedup).Key("speedup_same_stages").Value(speedup_same);
+    j.Key("frames").Value(frames).EndObject();
+    out << j.str() << "\n";
+    return kExitOk;
+  }
+  out << std::fixed << std::setprecision(2);
+  out << "median over " << frames << " frame(s) after one warm-up, milliseconds per stage\n";
+  for (const BenchRun* run : {&plain, &plain_same, &fov}) {
+    out << std::left << std::setw(22) << run->name << std::right;
+    for (const auto& [stage, ms] : StageMedians(*run)) out << " " << stage << " " << ms;
+    out << "\n" << std::setw(22) << "" << " points " << run->runs.back().stats.TotalPoints()
+        << ", keypoints " << run->runs.back().stats.TotalKeypoints() << ", instances "
+        << run->runs.back().instances.size() << ", found " << (run->found ? "yes" : "no");
+    if (run->error)
+      out << std::setprecision(4) << ", error " << run->error->translation_m * 100 << " cm "
+          << run->error->rotation_deg << " deg" << std::setprecision(2);
+    out << "\n";
+  }
+  out << "speed-up foveated vs plain gold standard: " << speedup << "x (vs plain with Saccade's "
+      << "stages: " << speedup_same << "x)\n";
+  return kExitOk;
+}
+
+int RunDemo(const std::vector<std::string>&, std::ostream&, std::ostream& err) {
+  err << "saccade demo: not built yet\n";
+  return kExitFailure;
+}
+
+}  // namespace saccade

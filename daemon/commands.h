@@ -1,0 +1,19 @@
+// The `saccade` user command's subcommands. Each returns the process exit code:
+// 0 success, 1 the input could not be processed (file, cloud, model), 2 bad usage.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace saccade {
+
+constexpr int kExitOk = 0;
+constexpr int kExitFailure = 1;
+constexpr int kExitUsage = 2;
+
+int RunRecognize(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int RunBench(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int RunDemo(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
+}  // namespace saccade

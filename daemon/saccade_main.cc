@@ -1,0 +1,38 @@
+// saccade: the user's command line (recognize, bench, demo).
+#include "daemon/commands.h"
+
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: saccade <command> [flags]
+
+commands:
+  recognize --model M.pcd --scene S.pcd [--fovea x,y,z] [--plain] [--config FILE.yaml] [--json]
+            find the model in one scene and print each instance's pose and votes
+  bench     --model M.pcd --scene S.pcd --fovea x,y,z [--truth POSE.txt] [--frames N] [--json]
+            time plain (gold standard) against foveated recognition on one frame
+  demo      [--json]
+            generate a synthetic Kinect scene and recognize its target in it
+
+exit codes: 0 ok, 1 input could not be processed, 2 bad usage
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    std::cout << kUsage;
+    return args.empty() ? saccade::kExitUsage : saccade::kExitOk;
+  }
+  const std::string command = args[0];
+  args.erase(args.begin());
+  if (command == "recognize") return saccade::RunRecognize(args, std::cout, std::cerr);
+  if (command == "bench") return saccade::RunBench(args, std::cout, std::cerr);
+  if (command == "demo") return saccade::RunDemo(args, std::cout, std::cerr);
+  std::cerr << "saccade: unknown command '" << command << "' (see saccade --help)\n";
+  return saccade::kExitUsage;
+}

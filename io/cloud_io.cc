@@ -1,0 +1,116 @@
+#include "io/cloud_io.h"
+
+#include <pcl/PCLPointCloud2.h>
+#include <pcl/common/io.h>
+#include <pcl/conversions.h>
+#include <pcl/console/print.h>
+#include <pcl/io/pcd_io.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <sys/stat.h>
+
+namespace saccade {
+
+void QuietPcl() { pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS); }
+
+std::optional<Cloud> LoadCloud(const std::string& path, std::string* error) {
+  QuietPcl();
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) {
+    *error = path + ": no such file";
+    return std::nullopt;
+  }
+  if (S_ISDIR(st.st_mode)) {
+    *error = path + ": is a directory, not a PCD file";
+    return std::nullopt;
+  }
+  pcl::PCLPointCloud2 blob;
+  pcl::PCDReader reader;
+  int result = -1;
+  try {
+    result = reader.read(path, blob);
+  } catch (const std::exception& e) {
+    *error = path + ": not a readable PCD file (" + e.what() + ")";
+    return std::nullopt;
+  }
+  if (result < 0) {
+    *error = path + ": not a readable PCD file (corrupt or truncated)";
+    return std::nullopt;
+  }
+  bool has_x = false, has_y = false, has_z = false;
+  for (const auto& f : blob.fields) {
+    has_x |= f.name == "x";
+    has_y |= f.name == "y";
+    has_z |= f.name == "z";
+  }
+  if (!has_x || !has_y || !has_z) {
+    *error = path + ": PCD has no x, y and z fields";
+    return std::nullopt;
+  }
+  Cloud cloud;
+  pcl::fromPCLPointCloud2(blob, cloud);
+  return cloud;
+}
+
+bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error) {
+  QuietPcl();
+  if (cloud.empty()) {
+    *error = path + ": refusing to write an empty cloud";
+    return false;
+  }
+  if (pcl::io::savePCDFileBinaryCompressed(path, cloud) < 0) {
+    *error = path + ": cannot write PCD file";
+    return false;
+  }
+  return true;
+}
+
+std::size_t CountFinite(const Cloud& cloud) {
+  std::size_t n = 0;
+  for (const auto& p : cloud.points)
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) ++n;
+  return n;
+}
+
+std::optional<Eigen::Matrix4f> LoadPose(const std::string& path, std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    *error = path + ": cannot open pose file";
+    return std::nullopt;
+  }
+  std::vector<double> values;
+  std::string line, token;
+  std::ostringstream numbers;
+  while (std::getline(in, line)) numbers << line.substr(0, line.find('#')) << '\n';  // # comments
+  std::istringstream tokens(numbers.str());
+  while (tokens >> token) {
+    char* end = nullptr;
+    const double v = std::strtod(token.c_str(), &end);
+    if (end == token.c_str() || *end != '\0' || !std::isfinite(v)) {
+      *error = path + ": '" + token + "' is not a finite number";
+      return std::nullopt;
+    }
+    values.push_back(v);
+  }
+  if (values.size() != 16) {
+    *error = path + ": expected 16 numbers (a 4x4 matrix), found " + std::to_string(values.size());
+    return std::nullopt;
+  }
+  Eigen::Matrix4f pose;
+  for (int i = 0; i < 16; ++i) pose(i / 4, i % 4) = static_cast<float>(values[i]);
+  if (!pose.row(3).isApprox(Eigen::RowVector4f(0, 0, 0, 1), 1e-6f)) {
+    *error = path + ": last row must be 0 0 0 1";
+    return std::nullopt;
+  }
+  const Eigen::Matrix3f R = pose.topLeftCorner<3, 3>();
+  if (!(R * R.transpose()).isApprox(Eigen::Matrix3f::Identity(), 1e-3f) ||
+      std::abs(R.determinant() - 1.0f) > 1e-3f) {
+    *error = path + ": the 3x3 block is not a proper rotation";
+    return std::nullopt;
+  }
+  return pose;
+}
+
+}  // namespace saccade

@@ -1,0 +1,28 @@
+// Reading and writing clouds and poses. Every failure comes back as one line naming the file.
+#pragma once
+
+#include "core/types.h"
+
+#include <optional>
+#include <string>
+
+namespace saccade {
+
+/// Loads a PCD file (any PCL encoding) into XYZRGBA; colour is zero when the file has none.
+/// nullopt with `error` = "PATH: reason" when missing, unreadable, corrupt or without x/y/z.
+std::optional<Cloud> LoadCloud(const std::string& path, std::string* error);
+
+/// Writes a binary-compressed PCD; false with `error` on failure.
+bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error);
+
+/// Number of points with finite x, y and z.
+std::size_t CountFinite(const Cloud& cloud);
+
+/// Reads a 4x4 homogeneous matrix written as 16 numbers (rows in order, any whitespace);
+/// the last row must be 0 0 0 1 and the rotation proper.
+std::optional<Eigen::Matrix4f> LoadPose(const std::string& path, std::string* error);
+
+/// Silences PCL's own console messages, so that errors reach the user once, as ours.
+void QuietPcl();
+
+}  // namespace saccade

@@ -1,0 +1,25 @@
+// Strict YAML configuration: every key must be known, of the right type and in range; errors
+// name the file, the key and the reason.
+#pragma once
+
+#include "core/foveation.h"
+#include "core/recognition.h"
+
+#include <string>
+
+namespace saccade {
+
+/// The recognition part of a configuration file:
+///   recognition: { <RecognitionOptions fields> }
+///   fovea:       { <FoveaOptions fields>; vectors as [x, y, z], orientation as [w, x, y, z] }
+/// Keys absent from the file keep the values already in the structs.
+struct RecognitionConfig {
+  RecognitionOptions recognition;
+  FoveaOptions fovea;
+};
+
+/// Applies the file over `config`. False with `error` = "FILE: key 'a.b': reason" on any
+/// unknown key, wrong type, out-of-range value or unreadable file.
+bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, std::string* error);
+
+}  // namespace saccade
