@@ -389,6 +389,7 @@ Descriptors DescribeKeypoints(const Cloud& cloud, const Normals& normals,
     std::vector<float> d2;
     for (std::size_t i = begin; i < end; ++i) {
       const int kp = keypoints[i];
+      if (!cloud[kp].getVector3fMap().allFinite()) continue;
       search.Radius(kp, radius, &nn, &d2);
       if (static_cast<int>(nn.size()) < options.min_neighbors) continue;
       if (!ShotLocalFrame(cloud, kp, nn, d2, options.lrf_radius_m, &lrfs[i])) continue;

@@ -71,7 +71,8 @@ Eigen::Vector3f LevelDisplacement(int k, int m, const Eigen::Vector3f& outer_siz
 
 Eigen::Vector3f LevelSize(int k, int m, const Eigen::Vector3f& outer_size,
                           const Eigen::Vector3f& inner_size) {
-  return (k * inner_size - k * outer_size + m * outer_size) / static_cast<float>(m);
+  // Eq. 2 rearranged as S_0 + k (S_m - S_0) / m, so that S_0 comes out exactly at k = 0.
+  return outer_size + static_cast<float>(k) * (inner_size - outer_size) / static_cast<float>(m);
 }
 
 std::optional<Box> BoundingBox(const Cloud& cloud) {
@@ -95,8 +96,10 @@ FoveaGeometry ComputeFoveaGeometry(const FoveaOptions& o, const Box& scene_bound
   FoveaGeometry g;
   Eigen::Vector3f origin;
   if (o.outer_box_from_scene) {
-    // The scene's box, grown symmetrically where it is thinner than the fovea's own box.
-    const Eigen::Vector3f size = scene_bounds.Size().cwiseMax(o.inner_size_m);
+    // The scene's box, grown symmetrically where it is thinner than the fovea's own box, and by
+    // a millimetre so that rounding never drops a point on its faces.
+    const Eigen::Vector3f size =
+        (scene_bounds.Size() + Eigen::Vector3f::Constant(2e-3f)).cwiseMax(o.inner_size_m);
     const Eigen::Vector3f centre = 0.5f * (scene_bounds.min + scene_bounds.max);
     origin = centre - 0.5f * size;
     g.outer_size_m = size;
@@ -117,6 +120,11 @@ FoveaGeometry ComputeFoveaGeometry(const FoveaOptions& o, const Box& scene_bound
     const Eigen::Vector3f size = LevelSize(k, m, g.outer_size_m, o.inner_size_m);
     g.levels[k].min = (delta - o.growth_m).cwiseMax(Eigen::Vector3f::Zero());
     g.levels[k].max = (delta + size + o.growth_m).cwiseMin(g.outer_size_m);
+    // Exact arithmetic nests the boxes; this keeps them nested under float rounding too.
+    if (k > 0) {
+      g.levels[k].min = g.levels[k].min.cwiseMax(g.levels[k - 1].min);
+      g.levels[k].max = g.levels[k].max.cwiseMin(g.levels[k - 1].max);
+    }
   }
   return g;
 }
