@@ -80,8 +80,9 @@ class KdTreeSearch final : public NeighborSearch {
 };
 
 // Normal of a neighbourhood by PCA: the eigenvector of the smallest eigenvalue, turned towards
-// the camera origin. NaN when fewer than 3 points.
-Eigen::Vector3f PcaNormal(const Eigen::Vector3f* points, int n, const Eigen::Vector3f& at) {
+// the viewpoint (the sensor that saw the points). NaN when fewer than 3 points.
+Eigen::Vector3f PcaNormal(const Eigen::Vector3f* points, int n, const Eigen::Vector3f& at,
+                          const Eigen::Vector3f& viewpoint = Eigen::Vector3f::Zero()) {
   if (n < 3) return Eigen::Vector3f::Constant(kNaN);
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (int i = 0; i < n; ++i) mean += points[i].cast<double>();
@@ -95,7 +96,7 @@ Eigen::Vector3f PcaNormal(const Eigen::Vector3f* points, int n, const Eigen::Vec
   solver.computeDirect(cov);
   Eigen::Vector3f normal = solver.eigenvectors().col(0).cast<float>();
   if (!normal.allFinite()) return Eigen::Vector3f::Constant(kNaN);
-  if (normal.dot(-at) < 0) normal = -normal;
+  if (normal.dot(viewpoint - at) < 0) normal = -normal;
   return normal;
 }
 
@@ -197,11 +198,13 @@ Normals KnnNormals(const Cloud& cloud, const std::vector<std::uint8_t>& mask, in
   std::vector<int> nn;
   std::vector<float> d2;
   std::vector<Eigen::Vector3f> pts;
+  const Eigen::Vector3f viewpoint = cloud.sensor_origin_.head<3>();
   for (int i : *indices) {
     tree->nearestKSearch(cloud[i], k_neighbors, nn, d2);
     pts.clear();
     for (int j : nn) pts.push_back(cloud[j].getVector3fMap());
-    normals[i] = PcaNormal(pts.data(), static_cast<int>(pts.size()), cloud[i].getVector3fMap());
+    normals[i] = PcaNormal(pts.data(), static_cast<int>(pts.size()), cloud[i].getVector3fMap(),
+                           viewpoint);
   }
   return normals;
 }

@@ -50,7 +50,8 @@ Normals OrganizedNormals(const Cloud& cloud, const CameraIntrinsics& intrinsics,
                          const std::vector<std::uint8_t>& mask, int k_neighbors,
                          const ParallelFor& parallel_for = SerialFor);
 
-/// Normals of the masked points from their k nearest neighbours in the whole cloud.
+/// Normals of the masked points from their k nearest neighbours in the whole cloud, oriented
+/// towards the cloud's sensor_origin_ (where the sensor was, in the cloud's frame).
 Normals KnnNormals(const Cloud& cloud, const std::vector<std::uint8_t>& mask, int k_neighbors);
 
 /// SHOT descriptors of a set of keypoints, with their local reference frames.

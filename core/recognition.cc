@@ -91,6 +91,8 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
   }
   out.cloud_.width = static_cast<std::uint32_t>(out.cloud_.size());
   out.cloud_.height = 1;
+  out.cloud_.sensor_origin_ = model.sensor_origin_;
+  out.cloud_.sensor_orientation_ = model.sensor_orientation_;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const auto& p : out.cloud_.points) sum += p.getVector3fMap().cast<double>();
   out.centroid_ = (sum / static_cast<double>(out.cloud_.size())).cast<float>();

@@ -1,0 +1,144 @@
+#include "core/synthetic.h"
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace saccade {
+
+Shape TargetShape() {
+  using Part = Shape::Part;
+  Shape s;
+  s.parts.push_back(Part::Box({0, 0, 0}, {0.07f, 0.05f, 0.04f}));
+  s.parts.push_back(Part::Box({0.035f, -0.075f, 0}, {0.035f, 0.025f, 0.04f}));
+  s.parts.push_back(Part::Box({-0.09f, 0.02f, 0.0f}, {0.02f, 0.03f, 0.025f}));
+  s.parts.push_back(Part::Sphere({-0.035f, -0.08f, 0}, 0.03f));
+  return s;
+}
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Nearest hit of ray o + t d (t > 0) with a part, in the part's object frame; outputs normal.
+float Intersect(const Shape::Part& p, const Eigen::Vector3f& o, const Eigen::Vector3f& d,
+                Eigen::Vector3f* normal) {
+  if (p.kind == Shape::Part::Kind::kSphere) {
+    const Eigen::Vector3f oc = o - p.centre_m;
+    const float b = oc.dot(d), c = oc.squaredNorm() - p.radius_m * p.radius_m;
+    const float disc = b * b - c;
+    if (disc < 0) return kInf;
+    const float t = -b - std::sqrt(disc);
+    if (t <= 0) return kInf;
+    *normal = (o + t * d - p.centre_m).normalized();
+    return t;
+  }
+  float t0 = -kInf, t1 = kInf;
+  int axis = -1;
+  float sign = 1;
+  for (int a = 0; a < 3; ++a) {
+    const float lo = p.centre_m[a] - p.half_size_m[a], hi = p.centre_m[a] + p.half_size_m[a];
+    if (std::abs(d[a]) < 1e-12f) {
+      if (o[a] < lo || o[a] > hi) return kInf;
+      continue;
+    }
+    float ta = (lo - o[a]) / d[a], tb = (hi - o[a]) / d[a];
+    float s = -1;
+    if (ta > tb) std::swap(ta, tb), s = 1;
+    if (ta > t0) t0 = ta, axis = a, sign = s;
+    t1 = std::min(t1, tb);
+  }
+  if (t0 > t1 || t0 <= 0 || axis < 0) return kInf;
+  normal->setZero();
+  (*normal)[axis] = sign;
+  return t0;
+}
+
+}  // namespace
+
+RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_height_m,
+                          const CameraIntrinsics& k, const KinectNoise& noise,
+                          std::uint32_t seed) {
+  RenderedFrame f;
+  f.cloud.width = static_cast<std::uint32_t>(k.width);
+  f.cloud.height = static_cast<std::uint32_t>(k.height);
+  f.cloud.is_dense = false;
+  f.cloud.resize(static_cast<std::size_t>(k.width) * k.height);
+  f.label.assign(f.cloud.size(), 0);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  // Rays in each object's frame are the camera rays moved by X_OC.
+  std::vector<Eigen::Isometry3f> X_OC;
+  for (const auto& o : objects) X_OC.push_back(o.pose.inverse());
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) {
+      const Eigen::Vector3f ray(static_cast<float>((u - k.cx) / k.fx),
+                                static_cast<float>((v - k.cy) / k.fy), 1.0f);
+      const Eigen::Vector3f d = ray.normalized();
+      float best = kInf;
+      Eigen::Vector3f best_normal = -Eigen::Vector3f::UnitY();
+      std::uint32_t best_label = 0;
+      if (d.y() > 1e-6f) {  // the table plane, seen from above
+        best = table_height_m / d.y();
+        best_normal = -Eigen::Vector3f::UnitY();
+      }
+      for (std::size_t i = 0; i < objects.size(); ++i) {
+        const Eigen::Vector3f o = X_OC[i].translation();
+        const Eigen::Vector3f dl = X_OC[i].linear() * d;
+        for (const auto& part : objects[i].shape.parts) {
+          Eigen::Vector3f n;
+          const float t = Intersect(part, o, dl, &n);
+          if (t < best) {
+            best = t;
+            best_normal = objects[i].pose.linear() * n;
+            best_label = objects[i].label;
+          }
+        }
+      }
+      auto& p = f.cloud[static_cast<std::size_t>(v) * k.width + u];
+      p.x = p.y = p.z = nan;
+      p.r = p.g = p.b = 128;
+      p.a = 255;
+      if (!std::isfinite(best)) continue;
+      double z = best * d.z();
+      const double incidence = std::abs(best_normal.dot(d));
+      // Draw the noise for every pixel, so a pixel's noise does not depend on its neighbours.
+      const double n1 = gauss(rng);
+      if (z < noise.min_range_m || z > noise.max_range_m) continue;
+      if (noise.enabled) {
+        if (incidence < noise.grazing_cos) continue;
+        z += noise.sigma_at_1m_m * z * z * n1;
+        // Disparity quantization: the Kinect measures disparity in 1/8 pixel steps.
+        const double disparity = k.fx * noise.baseline_m / z;
+        const double q = std::round(disparity / noise.disparity_step) * noise.disparity_step;
+        z = k.fx * noise.baseline_m / q;
+      }
+      p.z = static_cast<float>(z);
+      p.x = static_cast<float>((u - k.cx) * z / k.fx);
+      p.y = static_cast<float>((v - k.cy) * z / k.fy);
+      f.label[static_cast<std::size_t>(v) * k.width + u] = best_label;
+      if (best_label) p.r = 200, p.g = 60, p.b = 40;
+    }
+  }
+  return f;
+}
+
+Cloud CutModel(const RenderedFrame& frame, std::uint32_t label, const Eigen::Isometry3f& X_CO) {
+  const Eigen::Isometry3f X_OC = X_CO.inverse();
+  Cloud model;
+  for (std::size_t i = 0; i < frame.cloud.size(); ++i) {
+    if (frame.label[i] != label || !std::isfinite(frame.cloud[i].z)) continue;
+    PointT p = frame.cloud[i];
+    p.getVector3fMap() = X_OC * p.getVector3fMap();
+    model.push_back(p);
+  }
+  model.width = static_cast<std::uint32_t>(model.size());
+  model.height = 1;
+  // Where the camera was, in the object's frame: normals are oriented towards it.
+  model.sensor_origin_.head<3>() = X_OC.translation();
+  model.sensor_orientation_ = Eigen::Quaternionf(X_OC.linear());
+  return model;
+}
+
+}  // namespace saccade

@@ -1,0 +1,69 @@
+// A synthetic Kinect: ray-casts primitive scenes into organized depth frames with a
+// Kinect-like noise model, deterministically from a seed. Pure geometry, no I/O.
+#pragma once
+
+#include "core/types.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace saccade {
+
+/// A solid made of boxes and spheres in its own frame (metres).
+struct Shape {
+  struct Part {
+    enum class Kind { kBox, kSphere } kind = Kind::kBox;
+    Eigen::Vector3f centre_m = Eigen::Vector3f::Zero();
+    Eigen::Vector3f half_size_m = Eigen::Vector3f::Constant(0.05f);  // box half extents
+    float radius_m = 0.05f;                                          // sphere radius
+
+    static Part Box(const Eigen::Vector3f& centre, const Eigen::Vector3f& half_size) {
+      Part p;
+      p.centre_m = centre;
+      p.half_size_m = half_size;
+      return p;
+    }
+    static Part Sphere(const Eigen::Vector3f& centre, float radius) {
+      Part p;
+      p.kind = Kind::kSphere;
+      p.centre_m = centre;
+      p.radius_m = radius;
+      return p;
+    }
+  };
+  std::vector<Part> parts;
+};
+
+/// A distinctive, asymmetric target: a block with a step, a side tab and a ball on top.
+Shape TargetShape();
+
+struct SceneObject {
+  Shape shape;
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();  // X_CO: object O in camera C
+  std::uint32_t label = 0;                                  // 0 = background
+};
+
+struct KinectNoise {
+  bool enabled = true;
+  double sigma_at_1m_m = 0.0015;     // depth noise grows with z²
+  double disparity_step = 1.0 / 8;   // disparity quantization (pixels), Kinect v1: 1/8
+  double baseline_m = 0.075;
+  double min_range_m = 0.5, max_range_m = 4.0;
+  double grazing_cos = 0.12;         // returns lost below this incidence cosine
+};
+
+struct RenderedFrame {
+  Cloud cloud;                        // organized, NaN where there is no return
+  std::vector<std::uint32_t> label;   // per pixel: the object label, 0 background / none
+};
+
+/// Renders the objects and a table plane (y = table_height_m in the camera frame, facing up).
+RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_height_m,
+                          const CameraIntrinsics& intrinsics, const KinectNoise& noise,
+                          std::uint32_t seed);
+
+/// The points of `label` in a frame, moved into the object's own frame by X_OC = X_CO^-1:
+/// a model "cut from a capture", as a user would make one.
+Cloud CutModel(const RenderedFrame& frame, std::uint32_t label, const Eigen::Isometry3f& X_CO);
+
+}  // namespace saccade
