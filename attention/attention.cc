@@ -7,9 +7,12 @@ namespace saccade {
 
 const char* ModeName(AttentionMode mode) {
   switch (mode) {
-    case AttentionMode::kTracking: return "TRACKING";
-    case AttentionMode::kSearching: return "SEARCHING";
-    case AttentionMode::kFullScan: return "FULL_SCAN";
+    case AttentionMode::kTracking:
+      return "TRACKING";
+    case AttentionMode::kSearching:
+      return "SEARCHING";
+    case AttentionMode::kFullScan:
+      return "FULL_SCAN";
   }
   return "?";
 }
@@ -23,7 +26,8 @@ bool AttentionOptions::IsValid(std::string* error) const {
   if (!std::isfinite(growth_max_m) || growth_max_m < growth_min_m)
     return fail("growth_max_m must be >= growth_min_m");
   if (!std::isfinite(growth_step) || growth_step <= 0) return fail("growth_step must be > 0");
-  if (multiplicative && growth_step <= 1) return fail("growth_step must be > 1 when multiplicative");
+  if (multiplicative && growth_step <= 1)
+    return fail("growth_step must be > 1 when multiplicative");
   return true;
 }
 

@@ -16,20 +16,20 @@ const char* ModeName(AttentionMode mode);
 
 /// One frame's fixation: where the next frame will be foveated, and why.
 struct Fixation {
-  std::int64_t frame_seq = 0;    // the frame whose detections produced this fixation
-  double time_s = 0;             // that frame's capture time
+  std::int64_t frame_seq = 0;  // the frame whose detections produced this fixation
+  double time_s = 0;           // that frame's capture time
   Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();  // camera frame
-  float growth_m = 0;            // G, applied on every axis
+  float growth_m = 0;                                 // G, applied on every axis
   AttentionMode mode = AttentionMode::kSearching;
-  int target = -1;               // index of the followed instance in the frame, -1 when none
-  std::string reason;            // "detected", "lost", "grow", "full_scan", "reset"
+  int target = -1;     // index of the followed instance in the frame, -1 when none
+  std::string reason;  // "detected", "lost", "grow", "full_scan", "reset"
 };
 
 struct AttentionOptions {
-  float growth_min_m = 0.0f;    // G_min, used while tracking
-  float growth_max_m = 1.0f;    // G_max, after which the fallback takes over
-  float growth_step = 0.1f;     // metres added per lost frame, or the factor when multiplicative
-  bool multiplicative = false;  // G := max(G, step_floor) * growth_step instead of G + step
+  float growth_min_m = 0.0f;       // G_min, used while tracking
+  float growth_max_m = 1.0f;       // G_max, after which the fallback takes over
+  float growth_step = 0.1f;        // metres added per lost frame, or the factor when multiplicative
+  bool multiplicative = false;     // G := max(G, step_floor) * growth_step instead of G + step
   bool full_scan_fallback = true;  // past G_max: search the unfoveated frame
 
   bool IsValid(std::string* error) const;

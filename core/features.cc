@@ -203,8 +203,8 @@ Normals KnnNormals(const Cloud& cloud, const std::vector<std::uint8_t>& mask, in
     tree->nearestKSearch(cloud[i], k_neighbors, nn, d2);
     pts.clear();
     for (int j : nn) pts.push_back(cloud[j].getVector3fMap());
-    normals[i] = PcaNormal(pts.data(), static_cast<int>(pts.size()), cloud[i].getVector3fMap(),
-                           viewpoint);
+    normals[i] =
+        PcaNormal(pts.data(), static_cast<int>(pts.size()), cloud[i].getVector3fMap(), viewpoint);
   }
   return normals;
 }

@@ -56,9 +56,9 @@ Normals KnnNormals(const Cloud& cloud, const std::vector<std::uint8_t>& mask, in
 
 /// SHOT descriptors of a set of keypoints, with their local reference frames.
 struct Descriptors {
-  std::vector<int> keypoint;          // index of each described keypoint in the cloud
-  std::vector<Eigen::Matrix3f> lrf;   // rows: x, y, z axes of the local frame (camera frame)
-  std::vector<float> shot;            // keypoint.size() x kShotLength, row-major, L2-normalized
+  std::vector<int> keypoint;         // index of each described keypoint in the cloud
+  std::vector<Eigen::Matrix3f> lrf;  // rows: x, y, z axes of the local frame (camera frame)
+  std::vector<float> shot;           // keypoint.size() x kShotLength, row-major, L2-normalized
   std::size_t size() const { return keypoint.size(); }
   const float* Row(std::size_t i) const { return shot.data() + i * kShotLength; }
 };

@@ -25,8 +25,9 @@ bool Fail(std::string* error, const std::string& message) {
 }  // namespace
 
 bool FoveaOptions::IsValid(std::string* error) const {
-  if (levels_m < 1) return Fail(error, "levels_m must be >= 1 (two levels at least), got " +
-                                           std::to_string(levels_m));
+  if (levels_m < 1)
+    return Fail(error,
+                "levels_m must be >= 1 (two levels at least), got " + std::to_string(levels_m));
   if (levels_m > 32) return Fail(error, "levels_m must be <= 32, got " + std::to_string(levels_m));
   if (!outer_box_from_scene) {
     if (!AllFinite(outer_size_m)) return Fail(error, "outer_size_m must be finite");
@@ -158,11 +159,10 @@ std::vector<int> VoxelRepresentatives(const Cloud& cloud, const std::vector<int>
     const Eigen::Vector3f s = p * inv;
     const Eigen::Array3f cell = s.array().floor();
     // 21 bits per axis: +-1M voxels, far beyond any depth sensor's range at millimetre leaves.
-    const auto key = (static_cast<std::uint64_t>(static_cast<std::int64_t>(cell.x()) & 0x1FFFFF)) |
-                     (static_cast<std::uint64_t>(static_cast<std::int64_t>(cell.y()) & 0x1FFFFF)
-                      << 21) |
-                     (static_cast<std::uint64_t>(static_cast<std::int64_t>(cell.z()) & 0x1FFFFF)
-                      << 42);
+    const auto key =
+        (static_cast<std::uint64_t>(static_cast<std::int64_t>(cell.x()) & 0x1FFFFF)) |
+        (static_cast<std::uint64_t>(static_cast<std::int64_t>(cell.y()) & 0x1FFFFF) << 21) |
+        (static_cast<std::uint64_t>(static_cast<std::int64_t>(cell.z()) & 0x1FFFFF) << 42);
     const float d = (s.array() - cell - 0.5f).matrix().squaredNorm();
     std::uint32_t slot;
     if (key == last_key) {

@@ -19,14 +19,14 @@ struct FoveaOptions {
   /// When true the outer box is the axis-aligned bounding box of each scene's finite points and
   /// outer_size_m / outer_min_corner_m / outer_orientation are ignored.
   bool outer_box_from_scene = true;
-  Eigen::Vector3f outer_size_m{3.0f, 3.0f, 3.0f};         // S_0
+  Eigen::Vector3f outer_size_m{3.0f, 3.0f, 3.0f};           // S_0
   Eigen::Vector3f outer_min_corner_m{-2.9f, -1.9f, -1.3f};  // Δ: outer box origin, camera frame
   /// Orientation of the outer box axes in the camera frame (R_CB). Identity: camera-aligned.
   Eigen::Quaternionf outer_orientation = Eigen::Quaternionf::Identity();
   Eigen::Vector3f inner_size_m{0.25f, 0.25f, 0.25f};  // S_m: the fovea's own box; paper: 0.5
-  Eigen::Vector3f growth_m{0.0f, 0.0f, 0.0f};      // G: every level grows by G on each side
-  float density_0_m = 0.03f;  // d_0: voxel leaf of the coarsest level (0 keeps every point)
-  float density_m_m = 0.0f;   // d_m: voxel leaf of the fovea level (0 keeps every point)
+  Eigen::Vector3f growth_m{0.0f, 0.0f, 0.0f};         // G: every level grows by G on each side
+  float density_0_m = 0.03f;          // d_0: voxel leaf of the coarsest level (0 keeps every point)
+  float density_m_m = 0.0f;           // d_m: voxel leaf of the fovea level (0 keeps every point)
   float keypoint_radius_0_m = 0.08f;  // r_0: keypoint sampling radius of level 0
   float keypoint_radius_m_m = 0.02f;  // r_m: keypoint sampling radius of level m
 
@@ -51,8 +51,8 @@ Eigen::Vector3f LevelSize(int k, int m, const Eigen::Vector3f& outer_size,
 /// Where the boxes of one foveation lie.
 struct FoveaGeometry {
   Eigen::Isometry3f box_from_camera = Eigen::Isometry3f::Identity();  // X_BC
-  Eigen::Vector3f outer_size_m = Eigen::Vector3f::Zero();              // S_0
-  Eigen::Vector3f fovea_in_box_m = Eigen::Vector3f::Zero();            // F' (box coordinates)
+  Eigen::Vector3f outer_size_m = Eigen::Vector3f::Zero();             // S_0
+  Eigen::Vector3f fovea_in_box_m = Eigen::Vector3f::Zero();           // F' (box coordinates)
   /// Box k in box coordinates: [max(δ_k - G, 0), min(δ_k + S_k + G, S_0)].
   std::vector<Box> levels;
 
@@ -72,10 +72,11 @@ FoveaGeometry ComputeFoveaGeometry(const FoveaOptions& options, const Box& scene
 /// A foveated cloud: the kept points of every level, joined and ordered by level.
 struct FoveatedCloud {
   FoveaGeometry geometry;
-  Cloud cloud;                          // joined cloud, level 0 first
-  std::vector<int> source_index;        // per point: its index in the input cloud
-  std::vector<std::uint8_t> level;      // per point: its level k
-  std::vector<std::size_t> level_begin;  // m+2 offsets: level k is [level_begin[k], level_begin[k+1])
+  Cloud cloud;                      // joined cloud, level 0 first
+  std::vector<int> source_index;    // per point: its index in the input cloud
+  std::vector<std::uint8_t> level;  // per point: its level k
+  std::vector<std::size_t>
+      level_begin;  // m+2 offsets: level k is [level_begin[k], level_begin[k+1])
 
   int NumLevels() const { return static_cast<int>(level_begin.size()) - 1; }
   std::size_t LevelPointCount(int k) const { return level_begin[k + 1] - level_begin[k]; }

@@ -137,7 +137,8 @@ struct CellKey {
 };
 struct CellHash {
   std::size_t operator()(const CellKey& k) const {
-    return (static_cast<std::size_t>(k.x) * 73856093u) ^ (static_cast<std::size_t>(k.y) * 19349663u) ^
+    return (static_cast<std::size_t>(k.x) * 73856093u) ^
+           (static_cast<std::size_t>(k.y) * 19349663u) ^
            (static_cast<std::size_t>(k.z) * 83492791u);
   }
 };
@@ -184,8 +185,8 @@ std::vector<Detection> HoughGroup(const Descriptors& model, const Cloud& model_c
     for (int dz = 0; dz < 2; ++dz)
       for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
-          const float w = (dx ? t.x() : 1 - t.x()) * (dy ? t.y() : 1 - t.y()) *
-                          (dz ? t.z() : 1 - t.z());
+          const float w =
+              (dx ? t.x() : 1 - t.x()) * (dy ? t.y() : 1 - t.y()) * (dz ? t.z() : 1 - t.z());
           acc[{static_cast<int>(f.x()) + dx, static_cast<int>(f.y()) + dy,
                static_cast<int>(f.z()) + dz}] += w;
         }
@@ -235,7 +236,8 @@ std::vector<Detection> HoughGroup(const Descriptors& model, const Cloud& model_c
       pose = FitRigid(from, to);
       std::vector<int> inliers;
       for (std::size_t i = 0; i < members.size(); ++i) {
-        const Eigen::Vector3f mapped = pose.topLeftCorner<3, 3>() * from[i] + pose.topRightCorner<3, 1>();
+        const Eigen::Vector3f mapped =
+            pose.topLeftCorner<3, 3>() * from[i] + pose.topRightCorner<3, 1>();
         if ((mapped - to[i]).squaredNorm() <= thr2) inliers.push_back(members[i]);
       }
       if (inliers.size() == members.size() || inliers.size() < 3) {
@@ -301,8 +303,8 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
     int first = query.fovea.levels_m;
     while (first > 0 && LevelDensity(query.fovea, first - 1) <= options.max_described_density_m)
       --first;
-    level_points = FoveateIndices(scene, query.fovea, geometry, first,
-                                  organized ? &*intrinsics : nullptr);
+    level_points =
+        FoveateIndices(scene, query.fovea, geometry, first, organized ? &*intrinsics : nullptr);
     for (int k = 0; k <= query.fovea.levels_m; ++k)
       level_radius.push_back(LevelKeypointRadius(query.fovea, k));
     result.fovea = geometry;
@@ -324,10 +326,9 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
 
   // 2. Normals from the full-resolution geometry, only where a point is kept.
   t = Clock::now();
-  const Normals normals =
-      organized ? OrganizedNormals(scene, *intrinsics, mask, options.scene_normal_neighbors,
-                                   parallel_for)
-                : KnnNormals(scene, mask, options.scene_normal_neighbors);
+  const Normals normals = organized ? OrganizedNormals(scene, *intrinsics, mask,
+                                                       options.scene_normal_neighbors, parallel_for)
+                                    : KnnNormals(scene, mask, options.scene_normal_neighbors);
   stats.stage_ms.emplace_back("normals", MsSince(t));
 
   // 3. Keypoints per level, each with its own radius.
@@ -342,8 +343,8 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
 
   // 4. SHOT and its local frame, on the kept points as the search surface.
   t = Clock::now();
-  const auto search = organized ? MakeOrganizedSearch(scene, *intrinsics, mask)
-                                : MakeKdTreeSearch(scene, mask);
+  const auto search =
+      organized ? MakeOrganizedSearch(scene, *intrinsics, mask) : MakeKdTreeSearch(scene, mask);
   DescribeOptions describe;
   describe.shot_radius_m = options.scene_shot_radius_m;
   describe.lrf_radius_m = options.scene_lrf_radius_m;

@@ -19,17 +19,17 @@ namespace saccade {
 /// Correspondence-grouping parameters (paper Table 1, in metres). "scene" values apply to the
 /// scene cloud, "model" values to the model cloud.
 struct RecognitionOptions {
-  int scene_normal_neighbors = 10;          // k_ns
-  float scene_keypoint_radius_m = 0.03f;    // r_ks (plain recognition only)
-  float scene_shot_radius_m = 0.02f;        // r_ss
-  float scene_lrf_radius_m = 0.015f;        // r_ls
-  int model_normal_neighbors = 10;          // k_nm
-  float model_keypoint_radius_m = 0.01f;    // r_km
-  float model_shot_radius_m = 0.02f;        // r_sm
-  float model_lrf_radius_m = 0.015f;        // r_lm
+  int scene_normal_neighbors = 10;            // k_ns
+  float scene_keypoint_radius_m = 0.03f;      // r_ks (plain recognition only)
+  float scene_shot_radius_m = 0.02f;          // r_ss
+  float scene_lrf_radius_m = 0.015f;          // r_ls
+  int model_normal_neighbors = 10;            // k_nm
+  float model_keypoint_radius_m = 0.01f;      // r_km
+  float model_shot_radius_m = 0.02f;          // r_sm
+  float model_lrf_radius_m = 0.015f;          // r_lm
   float max_descriptor_sqr_distance = 0.25f;  // d²_max: accept a match below this
-  float hough_bin_m = 0.01f;                // L_h
-  int hough_threshold = 5;                  // V_h: minimum votes of an instance
+  float hough_bin_m = 0.01f;                  // L_h
+  int hough_threshold = 5;                    // V_h: minimum votes of an instance
   /// A correspondence stays in an instance when the instance's pose maps its model keypoint
   /// within this distance of its scene keypoint.
   float pose_inlier_threshold_m = 0.02f;
@@ -117,8 +117,8 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
 /// estimates each instance's pose from its inlying correspondences (proper rotations only).
 /// `correspondences` are (model descriptor index, scene descriptor index).
 std::vector<Detection> HoughGroup(const Descriptors& model, const Cloud& model_cloud,
-                                  const Eigen::Vector3f& model_centroid,
-                                  const Descriptors& scene, const Cloud& scene_cloud,
+                                  const Eigen::Vector3f& model_centroid, const Descriptors& scene,
+                                  const Cloud& scene_cloud,
                                   const std::vector<std::pair<int, int>>& correspondences,
                                   const RecognitionOptions& options);
 

@@ -38,7 +38,8 @@ struct Described {
 };
 
 Described Describe(const Cloud::ConstPtr& cloud, int k_normals, float keypoint_radius,
-                   float shot_radius, float lrf_radius, std::vector<std::pair<std::string, double>>* ms) {
+                   float shot_radius, float lrf_radius,
+                   std::vector<std::pair<std::string, double>>* ms) {
   auto t = Clock::now();
   NormalCloud::Ptr normals(new NormalCloud);
   pcl::NormalEstimation<PointT, pcl::Normal> ne;

@@ -57,8 +57,7 @@ float Intersect(const Shape::Part& p, const Eigen::Vector3f& o, const Eigen::Vec
 }  // namespace
 
 RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_height_m,
-                          const CameraIntrinsics& k, const KinectNoise& noise,
-                          std::uint32_t seed) {
+                          const CameraIntrinsics& k, const KinectNoise& noise, std::uint32_t seed) {
   RenderedFrame f;
   f.cloud.width = static_cast<std::uint32_t>(k.width);
   f.cloud.height = static_cast<std::uint32_t>(k.height);

@@ -40,21 +40,21 @@ Shape TargetShape();
 struct SceneObject {
   Shape shape;
   Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();  // X_CO: object O in camera C
-  std::uint32_t label = 0;                                  // 0 = background
+  std::uint32_t label = 0;                                 // 0 = background
 };
 
 struct KinectNoise {
   bool enabled = true;
-  double sigma_at_1m_m = 0.0015;     // depth noise grows with z²
-  double disparity_step = 1.0 / 8;   // disparity quantization (pixels), Kinect v1: 1/8
+  double sigma_at_1m_m = 0.0015;    // depth noise grows with z²
+  double disparity_step = 1.0 / 8;  // disparity quantization (pixels), Kinect v1: 1/8
   double baseline_m = 0.075;
   double min_range_m = 0.5, max_range_m = 4.0;
-  double grazing_cos = 0.12;         // returns lost below this incidence cosine
+  double grazing_cos = 0.12;  // returns lost below this incidence cosine
 };
 
 struct RenderedFrame {
-  Cloud cloud;                        // organized, NaN where there is no return
-  std::vector<std::uint32_t> label;   // per pixel: the object label, 0 background / none
+  Cloud cloud;                       // organized, NaN where there is no return
+  std::vector<std::uint32_t> label;  // per pixel: the object label, 0 background / none
 };
 
 /// Renders the objects and a table plane (y = table_height_m in the camera frame, facing up).

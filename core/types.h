@@ -2,10 +2,10 @@
 // otherwise; clouds are in the camera optical frame (x right, y down, z forward).
 #pragma once
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <cstdint>
 #include <vector>
@@ -48,7 +48,7 @@ struct Box {
 /// One recognized instance of the model in a scene.
 struct Detection {
   Eigen::Matrix4f model_to_scene = Eigen::Matrix4f::Identity();  // X_SM: model frame M in scene S
-  int votes = 0;                // correspondences that agree on this pose
+  int votes = 0;                                         // correspondences that agree on this pose
   Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();  // model centroid in the scene frame
   /// (model keypoint index, scene keypoint index) pairs behind this instance.
   std::vector<std::pair<int, int>> correspondences;

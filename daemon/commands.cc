@@ -134,8 +134,9 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
   query.foveated = !args.Has("plain");
   if (args.Has("fovea")) {
     auto f = Args::ParseVector3(args.Get("fovea"));
-    if (!f) return Usage(err, "recognize", "--fovea expects x,y,z in metres, got '" +
-                                               args.Get("fovea") + "'");
+    if (!f)
+      return Usage(err, "recognize",
+                   "--fovea expects x,y,z in metres, got '" + args.Get("fovea") + "'");
     query.fovea_m = *f;
   } else if (query.foveated) {
     return Usage(err, "recognize", "missing --fovea x,y,z (or --plain)");
@@ -308,8 +309,10 @@ int RunBench(const std::vector<std::string>& argv, std::ostream& out, std::ostre
   for (const BenchRun* run : {&plain, &plain_same, &fov}) {
     out << std::left << std::setw(22) << run->name << std::right;
     for (const auto& [stage, ms] : StageMedians(*run)) out << " " << stage << " " << ms;
-    out << "\n" << std::setw(22) << "" << " points " << run->runs.back().stats.TotalPoints()
-        << ", keypoints " << run->runs.back().stats.TotalKeypoints() << ", instances "
+    out << "\n"
+        << std::setw(22) << ""
+        << " points " << run->runs.back().stats.TotalPoints() << ", keypoints "
+        << run->runs.back().stats.TotalKeypoints() << ", instances "
         << run->runs.back().instances.size() << ", found " << (run->found ? "yes" : "no");
     if (run->error)
       out << std::setprecision(4) << ", error " << run->error->translation_m * 100 << " cm "
@@ -372,17 +375,17 @@ int RunDemo(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   const RecognitionResult fov = Recognize(*model, frame.cloud, query, options, parallel_for);
   SceneQuery plain_query = query;
   plain_query.foveated = false;
-  const RecognitionResult plain = Recognize(*model, frame.cloud, plain_query, options, parallel_for);
+  const RecognitionResult plain =
+      Recognize(*model, frame.cloud, plain_query, options, parallel_for);
   out << "synthetic Kinect scene (seed " << seed << "): " << CountFinite(frame.cloud)
       << " points, target among " << objects.size() - 1 << " clutter objects; model "
       << model_cloud.size() << " points cut from another capture\n";
   out << std::fixed << std::setprecision(2);
   for (const auto* run : {&plain, &fov}) {
     const bool foveated = run == &fov;
-    out << (foveated ? "foveated" : "plain   ") << ": " << run->instances.size()
-        << " instance(s), " << run->stats.TotalPoints() << " points, "
-        << run->stats.TotalKeypoints() << " keypoints, " << run->stats.stage_ms.back().second
-        << " ms";
+    out << (foveated ? "foveated" : "plain   ") << ": " << run->instances.size() << " instance(s), "
+        << run->stats.TotalPoints() << " points, " << run->stats.TotalKeypoints() << " keypoints, "
+        << run->stats.stage_ms.back().second << " ms";
     if (!run->instances.empty()) {
       const PoseError e = ComparePoses(run->instances[0].model_to_scene, truth, model->centroid());
       out << ", best: " << run->instances[0].votes << " votes, error " << e.translation_m * 100
@@ -390,9 +393,9 @@ int RunDemo(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     }
     out << "\n";
   }
-  const bool found = !fov.instances.empty() &&
-                     ComparePoses(fov.instances[0].model_to_scene, truth, model->centroid())
-                             .translation_m < 0.02;
+  const bool found =
+      !fov.instances.empty() &&
+      ComparePoses(fov.instances[0].model_to_scene, truth, model->centroid()).translation_m < 0.02;
   // Known limitation (see docs/BENCHMARKS.md): the all-planar synthetic target is not yet
   // recognized reliably; the demo reports that plainly instead of failing the build.
   out << (found ? "target found" : "target NOT found (known limitation of the synthetic target)")

@@ -15,8 +15,9 @@ ParallelFor MakeTbbParallelFor(int threads) {
   return [arena](std::size_t n, const std::function<void(std::size_t, std::size_t)>& body) {
     if (n == 0) return;
     arena->execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n),
-                        [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, n),
+          [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
     });
   };
 }

@@ -2,14 +2,14 @@
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/common/io.h>
-#include <pcl/conversions.h>
 #include <pcl/console/print.h>
+#include <pcl/conversions.h>
 #include <pcl/io/pcd_io.h>
 
+#include <sys/stat.h>
 #include <cmath>
 #include <fstream>
 #include <sstream>
-#include <sys/stat.h>
 
 namespace saccade {
 

@@ -31,8 +31,8 @@ Setter Quaternion(Eigen::Quaternionf* field) {
   return [field](const YAML::Node& n) {
     if (!n.IsSequence() || n.size() != 4)
       throw YAML::Exception(n.Mark(), "expected a list of 4 numbers [w, x, y, z]");
-    *field = Eigen::Quaternionf(n[0].as<float>(), n[1].as<float>(), n[2].as<float>(),
-                                n[3].as<float>());
+    *field =
+        Eigen::Quaternionf(n[0].as<float>(), n[1].as<float>(), n[2].as<float>(), n[3].as<float>());
   };
 }
 
@@ -62,8 +62,7 @@ bool ApplySection(const YAML::Node& section, const std::string& name,
 
 }  // namespace
 
-bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config,
-                           std::string* error) {
+bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, std::string* error) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);

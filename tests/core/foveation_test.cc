@@ -25,11 +25,12 @@ Scenario RandomScenario(std::mt19937* rng) {
   FoveaOptions& o = s.options;
   o.levels_m = 1 + static_cast<int>(unit(*rng) * 5);
   o.outer_box_from_scene = false;
-  o.outer_size_m = Eigen::Vector3f(0.5f + 3 * unit(*rng), 0.5f + 3 * unit(*rng), 0.5f + 3 * unit(*rng));
+  o.outer_size_m =
+      Eigen::Vector3f(0.5f + 3 * unit(*rng), 0.5f + 3 * unit(*rng), 0.5f + 3 * unit(*rng));
   o.outer_min_corner_m = Eigen::Vector3f(-2 * unit(*rng), -2 * unit(*rng), unit(*rng));
   for (int i = 0; i < 3; ++i) o.inner_size_m[i] = o.outer_size_m[i] * (0.05f + 0.9f * unit(*rng));
-  o.growth_m = unit(*rng) < 0.3f ? Eigen::Vector3f::Zero()
-                                 : Eigen::Vector3f::Constant(0.3f * unit(*rng));
+  o.growth_m =
+      unit(*rng) < 0.3f ? Eigen::Vector3f::Zero() : Eigen::Vector3f::Constant(0.3f * unit(*rng));
   o.density_0_m = 0.0f;  // keep every point: the partition is then exact
   o.density_m_m = 0.0f;
   for (int i = 0; i < 3; ++i)
@@ -108,7 +109,8 @@ TEST(FoveationCloud, DownsampledLevelsKeepOnlyOriginalPointsOfTheirRegion) {
       EXPECT_EQ(LevelOf(g, fc.cloud[j].getVector3fMap()), fc.level[j]);
       EXPECT_EQ(fc.cloud[j].getVector3fMap(), s.cloud[fc.source_index[j]].getVector3fMap());
     }
-    for (int k = 0; k < fc.NumLevels(); ++k) EXPECT_EQ(fc.LevelCloud(k).size(), fc.LevelPointCount(k));
+    for (int k = 0; k < fc.NumLevels(); ++k)
+      EXPECT_EQ(fc.LevelCloud(k).size(), fc.LevelPointCount(k));
   }
 }
 
@@ -181,11 +183,13 @@ struct InvalidCase {
 TEST(FoveaOptions, InvalidParametersAreRejectedNamingTheField) {
   const InvalidCase cases[] = {
       {"levels_m", [](FoveaOptions* o) { o->levels_m = 0; }},
-      {"inner_size_m", [](FoveaOptions* o) {
+      {"inner_size_m",
+       [](FoveaOptions* o) {
          o->outer_box_from_scene = false;
          o->inner_size_m = Eigen::Vector3f(4, 0.1f, 0.1f);
        }},
-      {"outer_size_m", [](FoveaOptions* o) {
+      {"outer_size_m",
+       [](FoveaOptions* o) {
          o->outer_box_from_scene = false;
          o->outer_size_m.x() = 0;
        }},
@@ -194,7 +198,8 @@ TEST(FoveaOptions, InvalidParametersAreRejectedNamingTheField) {
       {"keypoint_radius_m_m", [](FoveaOptions* o) { o->keypoint_radius_m_m = NAN; }},
       {"growth_m", [](FoveaOptions* o) { o->growth_m.z() = NAN; }},
       {"density_0_m", [](FoveaOptions* o) { o->density_0_m = -0.1f; }},
-      {"outer_min_corner_m", [](FoveaOptions* o) {
+      {"outer_min_corner_m",
+       [](FoveaOptions* o) {
          o->outer_box_from_scene = false;
          o->outer_min_corner_m.x() = NAN;
        }},
@@ -204,7 +209,8 @@ TEST(FoveaOptions, InvalidParametersAreRejectedNamingTheField) {
     c.mutate(&o);
     std::string error;
     EXPECT_FALSE(o.IsValid(&error)) << c.field;
-    EXPECT_NE(error.find(c.field), std::string::npos) << "'" << error << "' should name " << c.field;
+    EXPECT_NE(error.find(c.field), std::string::npos)
+        << "'" << error << "' should name " << c.field;
   }
   std::string error;
   EXPECT_TRUE(FoveaOptions{}.IsValid(&error)) << error;

@@ -189,7 +189,8 @@ TEST(HoughGroup, TooFewVotesGiveNoInstance) {
   std::vector<std::uint8_t> mask(model.size(), 1);
   const Normals normals = KnnNormals(model, mask, 10);
   const auto search = MakeKdTreeSearch(model, mask);
-  const Descriptors md = DescribeKeypoints(model, normals, {0, 500, 1000}, *search, DescribeOptions{});
+  const Descriptors md =
+      DescribeKeypoints(model, normals, {0, 500, 1000}, *search, DescribeOptions{});
   std::vector<std::pair<int, int>> corr;
   for (int i = 0; i < static_cast<int>(md.size()); ++i) corr.emplace_back(i, i);
   EXPECT_TRUE(HoughGroup(md, model, Eigen::Vector3f::Zero(), md, model, corr, RecognitionOptions{})

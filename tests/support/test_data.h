@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include <string>
 #include <sys/stat.h>
+#include <string>
 
 namespace saccade::testing {
 
@@ -20,9 +20,9 @@ inline bool DataPresent(const std::string& relative) {
 }  // namespace saccade::testing
 
 /// Skips the current test, saying why, when a file of ../shared/data is missing.
-#define SACCADE_REQUIRE_DATA(relative)                                                    \
-  do {                                                                                    \
-    if (!::saccade::testing::DataPresent(relative))                                       \
-      GTEST_SKIP() << "real data missing: " << ::saccade::testing::DataPath(relative)      \
-                   << " (see ../shared/data/README.md)";                                  \
+#define SACCADE_REQUIRE_DATA(relative)                                                \
+  do {                                                                                \
+    if (!::saccade::testing::DataPresent(relative))                                   \
+      GTEST_SKIP() << "real data missing: " << ::saccade::testing::DataPath(relative) \
+                   << " (see ../shared/data/README.md)";                              \
   } while (0)

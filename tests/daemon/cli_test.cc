@@ -1,0 +1,101 @@
+// End-to-end tests of the `saccade` binary: bad input gives one line and the right exit code.
+#include "support/test_data.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+namespace {
+
+struct CliRun {
+  int code;
+  std::string out;  // stdout and stderr together
+};
+
+CliRun Saccade(const std::string& args) {
+  const std::string cmd = std::string(SACCADE_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  CliRun r{-1, ""};
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), pipe)) r.out += buf.data();
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+int Lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+std::string WriteFile(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(Cli, UnknownFlagIsAUsageError) {
+  const CliRun r = Saccade("recognize --model a.pcd --scene b.pcd --plain --bogus");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("--bogus"), std::string::npos);
+}
+
+TEST(Cli, BadFoveaIsAUsageError) {
+  const CliRun r = Saccade("recognize --model a.pcd --scene b.pcd --fovea 1,2");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("--fovea"), std::string::npos);
+}
+
+TEST(Cli, MissingFileNamesTheFile) {
+  const std::string scene = WriteFile("s.pcd", "garbage");
+  const CliRun r = Saccade("recognize --model /nonexistent/m.pcd --scene " + scene + " --plain");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("/nonexistent/m.pcd"), std::string::npos);
+}
+
+TEST(Cli, CorruptFileIsRejected) {
+  const std::string bad =
+      WriteFile("corrupt.pcd", "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4\n");
+  const CliRun r = Saccade("recognize --model " + bad + " --scene " + bad + " --plain");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("corrupt.pcd"), std::string::npos);
+}
+
+TEST(Cli, CloudWithoutValidPointIsRejected) {
+  const std::string nan = WriteFile(
+      "nan.pcd",
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\n"
+      "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\nnan nan nan\nnan nan nan\n");
+  const CliRun r = Saccade("recognize --model " + nan + " --scene " + nan + " --plain");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("no valid point"), std::string::npos) << r.out;
+}
+
+TEST(Cli, UnknownConfigKeyNamesFileAndKey) {
+  const std::string cfg = WriteFile("bad.yaml", "recognition:\n  hough_bin: 0.01\n");
+  const CliRun r = Saccade("recognize --model a.pcd --scene b.pcd --plain --config " + cfg);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("bad.yaml"), std::string::npos);
+  EXPECT_NE(r.out.find("recognition.hough_bin"), std::string::npos) << r.out;
+}
+
+TEST(Cli, JsonOutputOnTheMilkScene) {
+  SACCADE_REQUIRE_DATA("pcl_test/milk_cartoon_all_small_clorox.pcd");
+  const CliRun r = Saccade(
+      "recognize --model " + saccade::testing::DataPath("pcl_test/milk_color.pcd") + " --scene " +
+      saccade::testing::DataPath("pcl_test/milk_cartoon_all_small_clorox.pcd") +
+      " --fovea -0.056,-0.127,0.776 --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(Lines(r.out), 1);
+  for (const char* key :
+       {"\"instances\":[{\"pose\":[", "\"votes\":", "\"centroid\":[", "\"timing_ms\":{\"foveate\"",
+        "\"total\":", "\"points\":", "\"keypoints\":"})
+    EXPECT_NE(r.out.find(key), std::string::npos) << key << " missing in " << r.out;
+}
+
+}  // namespace
