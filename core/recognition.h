@@ -70,7 +70,7 @@ class ModelDescription {
   Eigen::Vector3f centroid_ = Eigen::Vector3f::Zero();
   struct Index;
   std::unique_ptr<Index> index_;
-  int checks_ = 64;
+  int checks_ = 0;  // set from RecognitionOptions::match_checks by DescribeModel
 };
 
 /// Describes the model (normals k_nm, uniform-sampling keypoints r_km, SHOT r_sm, LRF r_lm).

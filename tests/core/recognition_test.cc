@@ -23,6 +23,14 @@ Cloud Load(const char* relative) {
   return cloud ? *cloud : Cloud{};
 }
 
+// The model of `relative`, described with the default options (a failure is reported).
+std::optional<ModelDescription> Describe(const char* relative) {
+  std::string error;
+  auto model = DescribeModel(Load(relative), RecognitionOptions{}, &error);
+  EXPECT_TRUE(model) << error;
+  return model;
+}
+
 // Exactly one instance, within 1 cm at the model centroid and 3 degrees of the truth.
 void ExpectFoundAt(const RecognitionResult& r, const ModelDescription& model,
                    const Eigen::Matrix4f& truth) {
@@ -73,9 +81,8 @@ INSTANTIATE_TEST_SUITE_P(PlainAndFoveated, MilkScene, ::testing::Bool(),
 TEST(MilkSceneFoveated, FoveaOneMetreAwayReportsNothing) {
   SACCADE_REQUIRE_DATA(kScene);
   SACCADE_REQUIRE_DATA(kMilkModel);
-  std::string error;
-  auto model = DescribeModel(Load(kMilkModel), RecognitionOptions{}, &error);
-  ASSERT_TRUE(model) << error;
+  const auto model = Describe(kMilkModel);
+  ASSERT_TRUE(model);
   SceneQuery q;
   q.fovea_m = kCartonCentre + Eigen::Vector3f(1.0f, 0.0f, 0.0f);
   const RecognitionResult r = Recognize(*model, Load(kScene), q, RecognitionOptions{});
@@ -85,9 +92,8 @@ TEST(MilkSceneFoveated, FoveaOneMetreAwayReportsNothing) {
 TEST(MilkSceneFoveated, FoveaKeepsFarFewerPointsThanTheScene) {
   SACCADE_REQUIRE_DATA(kScene);
   SACCADE_REQUIRE_DATA(kMilkModel);
-  std::string error;
-  auto model = DescribeModel(Load(kMilkModel), RecognitionOptions{}, &error);
-  ASSERT_TRUE(model) << error;
+  const auto model = Describe(kMilkModel);
+  ASSERT_TRUE(model);
   SceneQuery q;
   q.fovea_m = kCartonCentre;
   const Cloud scene = Load(kScene);
