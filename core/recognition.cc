@@ -55,6 +55,14 @@ bool RecognitionOptions::IsValid(std::string* error) const {
   return true;
 }
 
+RecognitionOptions RecognitionOptions::CrossCapture() {
+  RecognitionOptions o;
+  o.scene_shot_radius_m = o.model_shot_radius_m = 0.04f;
+  o.scene_lrf_radius_m = o.model_lrf_radius_m = 0.03f;
+  o.hough_bin_m = 0.02f;
+  return o;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Model
 

@@ -43,6 +43,11 @@ struct RecognitionOptions {
   unsigned match_seed = 42;
 
   bool IsValid(std::string* error) const;
+
+  /// Table 1's values were tuned for a model cut from the very frame it is searched in. A
+  /// model from another capture needs wider supports (repeatable local frames from another
+  /// viewpoint) and a coarser Hough grid (the residual frame error); see docs/BENCHMARKS.md.
+  static RecognitionOptions CrossCapture();
 };
 
 /// The model, described once: its keypoints, their frames and descriptors, and a search

@@ -7,12 +7,15 @@
 namespace saccade {
 
 Shape TargetShape() {
+  // Curved parts of three sizes on a flat slab: the creases where they meet give local frames
+  // that repeat from view to view, which flat faces or a lone sphere would not.
   using Part = Shape::Part;
   Shape s;
-  s.parts.push_back(Part::Box({0, 0, 0}, {0.07f, 0.05f, 0.04f}));
-  s.parts.push_back(Part::Box({0.035f, -0.075f, 0}, {0.035f, 0.025f, 0.04f}));
-  s.parts.push_back(Part::Box({-0.09f, 0.02f, 0.0f}, {0.02f, 0.03f, 0.025f}));
-  s.parts.push_back(Part::Sphere({-0.035f, -0.08f, 0}, 0.03f));
+  s.parts.push_back(Part::Sphere({0, 0, 0}, 0.05f));
+  s.parts.push_back(Part::Sphere({0.05f, -0.03f, 0.01f}, 0.035f));
+  s.parts.push_back(Part::Sphere({-0.045f, -0.04f, -0.02f}, 0.028f));
+  s.parts.push_back(Part::Sphere({0.0f, -0.075f, 0.02f}, 0.022f));
+  s.parts.push_back(Part::Box({0.0f, 0.03f, 0.0f}, {0.07f, 0.02f, 0.05f}));
   return s;
 }
 
@@ -138,6 +141,37 @@ Cloud CutModel(const RenderedFrame& frame, std::uint32_t label, const Eigen::Iso
   model.sensor_origin_.head<3>() = X_OC.translation();
   model.sensor_orientation_ = Eigen::Quaternionf(X_OC.linear());
   return model;
+}
+
+Eigen::Isometry3f PoseOnTable(float x_m, float z_m, float yaw_rad, float table_height_m,
+                              float bottom_y_m) {
+  Eigen::Isometry3f X = Eigen::Isometry3f::Identity();
+  X.linear() = Eigen::AngleAxisf(yaw_rad, Eigen::Vector3f::UnitY()).toRotationMatrix();
+  X.translation() = Eigen::Vector3f(x_m, table_height_m - bottom_y_m, z_m);
+  return X;
+}
+
+CrossCaptureCase MakeDemoCase(std::uint32_t seed, const CameraIntrinsics& intrinsics) {
+  using Part = Shape::Part;
+  const float table = 0.3f;  // the camera 30 cm above the table, looking along it
+  CrossCaptureCase c;
+  const Eigen::Isometry3f X_CO_model = PoseOnTable(0.0f, 0.9f, 0.35f, table);
+  const RenderedFrame capture =
+      RenderScene({{TargetShape(), X_CO_model, 1}}, table, intrinsics, KinectNoise{}, seed);
+  c.model = CutModel(capture, 1, X_CO_model);
+  c.truth = PoseOnTable(0.05f, 0.95f, 0.45f, table);
+  const Shape crate{{Part::Box({0, 0, 0}, {0.08f, 0.06f, 0.08f})}};
+  const Shape ball{{Part::Sphere({0, 0, 0}, 0.06f)}};
+  const Shape can{{Part::Box({0, 0, 0}, {0.035f, 0.09f, 0.035f})}};
+  const std::vector<SceneObject> objects = {
+      {TargetShape(), c.truth, 1},
+      {crate, PoseOnTable(-0.25f, 1.2f, 0.3f, table, 0.06f), 2},
+      {ball, PoseOnTable(0.35f, 1.3f, 0.0f, table, 0.06f), 3},
+      {can, PoseOnTable(-0.1f, 0.85f, 0.7f, table, 0.09f), 4},
+  };
+  c.clutter_objects = static_cast<int>(objects.size()) - 1;
+  c.scene = RenderScene(objects, table, intrinsics, KinectNoise{}, seed + 1);
+  return c;
 }
 
 }  // namespace saccade

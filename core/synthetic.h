@@ -34,7 +34,8 @@ struct Shape {
   std::vector<Part> parts;
 };
 
-/// A distinctive, asymmetric target: a block with a step, a side tab and a ball on top.
+/// A distinctive, asymmetric target: four balls of different sizes on a slab, 14 x 14 x 10 cm;
+/// its bottom face is at y = +0.05 in its own frame (y points down, as the camera's).
 Shape TargetShape();
 
 struct SceneObject {
@@ -65,5 +66,21 @@ RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_h
 /// The points of `label` in a frame, moved into the object's own frame by X_OC = X_CO^-1:
 /// a model "cut from a capture", as a user would make one.
 Cloud CutModel(const RenderedFrame& frame, std::uint32_t label, const Eigen::Isometry3f& X_CO);
+
+/// A pose standing on the table: moved to (x, ., z), turned by `yaw_rad` about the table's
+/// normal, with the object's bottom (at y = bottom_y_m in its own frame) on the table.
+Eigen::Isometry3f PoseOnTable(float x_m, float z_m, float yaw_rad, float table_height_m,
+                              float bottom_y_m = 0.05f);
+
+/// The demo's recognition case: a model cut from one capture of the target alone, and a
+/// second capture where the target has moved and turned among clutter. `truth` is X_CO of
+/// the target in `scene`, mapping model coordinates into the scene's camera frame.
+struct CrossCaptureCase {
+  Cloud model;
+  RenderedFrame scene;
+  Eigen::Isometry3f truth = Eigen::Isometry3f::Identity();
+  int clutter_objects = 0;
+};
+CrossCaptureCase MakeDemoCase(std::uint32_t seed, const CameraIntrinsics& intrinsics = {});
 
 }  // namespace saccade

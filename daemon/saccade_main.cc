@@ -14,8 +14,9 @@ commands:
             find the model in one scene and print each instance's pose and votes
   bench     --model M.pcd --scene S.pcd --fovea x,y,z [--truth POSE.txt] [--frames N] [--json]
             time plain (gold standard) against foveated recognition on one frame
-  demo      [--json]
-            generate a synthetic Kinect scene and recognize its target in it
+  demo      [--seed N]
+            render a synthetic Kinect scene and find in it a target modelled from another
+            capture; exit 1 when the target is not found
 
 exit codes: 0 ok, 1 input could not be processed, 2 bad usage
 )";

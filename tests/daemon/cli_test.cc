@@ -98,4 +98,17 @@ TEST(Cli, JsonOutputOnTheMilkScene) {
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " missing in " << r.out;
 }
 
+TEST(Cli, DemoFindsTheSyntheticTarget) {
+  const CliRun r = Saccade("demo --seed 2");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("target found"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("foveated: 1 instance(s)"), std::string::npos) << r.out;
+}
+
+TEST(Cli, DemoRejectsABadSeed) {
+  const CliRun r = Saccade("demo --seed -3");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+}
+
 }  // namespace
