@@ -23,10 +23,14 @@ struct Inputs {
   Cloud scene;
 };
 
+}  // namespace
+
 int Usage(std::ostream& err, const std::string& command, const std::string& message) {
   err << "saccade " << command << ": " << message << "\n";
   return kExitUsage;
 }
+
+namespace {
 
 // Loads --config, --model and --scene; prints one line and returns the exit code on failure.
 std::optional<int> LoadInputs(const Args& args, const std::string& command, Inputs* in,

@@ -12,8 +12,12 @@ constexpr int kExitOk = 0;
 constexpr int kExitFailure = 1;
 constexpr int kExitUsage = 2;
 
+/// Prints "saccade COMMAND: MESSAGE" and returns kExitUsage.
+int Usage(std::ostream& err, const std::string& command, const std::string& message);
+
 int RunRecognize(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunBench(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int RunRecord(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunDemo(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
 }  // namespace saccade

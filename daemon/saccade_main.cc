@@ -14,6 +14,11 @@ commands:
             find the model in one scene and print each instance's pose and votes
   bench     --model M.pcd --scene S.pcd --fovea x,y,z [--truth POSE.txt] [--frames N] [--json]
             time plain (gold standard) against foveated recognition on one frame
+  record    --source SPEC --out DIR [--frames N] [--format pcd|depth|oni]
+            capture frames (with ground truth when the source has it); SPEC is one of
+            openni2://[#N|URI|SERIAL], PATH.oni[?mode=realtime|fast|step&loop=1],
+            pcd:DIR[?rate=HZ&loop=1], depth:DIR[?intrinsics=FILE&rate=HZ&loop=1],
+            synthetic:NAME[?frames=N&seed=S&rate=HZ&loop=1] (NAME: a preset or a YAML file)
   demo      [--seed N]
             render a synthetic Kinect scene and find in it a target modelled from another
             capture; exit 1 when the target is not found
@@ -33,6 +38,7 @@ int main(int argc, char** argv) {
   args.erase(args.begin());
   if (command == "recognize") return saccade::RunRecognize(args, std::cout, std::cerr);
   if (command == "bench") return saccade::RunBench(args, std::cout, std::cerr);
+  if (command == "record") return saccade::RunRecord(args, std::cout, std::cerr);
   if (command == "demo") return saccade::RunDemo(args, std::cout, std::cerr);
   std::cerr << "saccade: unknown command '" << command << "' (see saccade --help)\n";
   return saccade::kExitUsage;

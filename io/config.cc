@@ -36,6 +36,14 @@ Setter Quaternion(Eigen::Quaternionf* field) {
   };
 }
 
+Setter Vector2(Eigen::Vector2f* field) {
+  return [field](const YAML::Node& n) {
+    if (!n.IsSequence() || n.size() != 2)
+      throw YAML::Exception(n.Mark(), "expected a list of 2 numbers [x, z]");
+    for (int i = 0; i < 2; ++i) (*field)[i] = n[i].as<float>();
+  };
+}
+
 bool ApplySection(const YAML::Node& section, const std::string& name,
                   const std::map<std::string, Setter>& setters, const std::string& path,
                   std::string* error) {
@@ -60,24 +68,119 @@ bool ApplySection(const YAML::Node& section, const std::string& name,
   return true;
 }
 
-}  // namespace
-
-bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, std::string* error) {
-  YAML::Node root;
+// Parses the file; a null node for an empty file. False with `error` when unreadable or when
+// the top level is not a mapping.
+bool LoadRoot(const std::string& path, YAML::Node* root, std::string* error) {
   try {
-    root = YAML::LoadFile(path);
+    *root = YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {
-    *error = path + ": cannot open config file";
+    *error = path + ": cannot open file";
     return false;
   } catch (const YAML::Exception& e) {
     *error = path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg;
     return false;
   }
-  if (root.IsNull()) return true;  // an empty file changes nothing
-  if (!root.IsMap()) {
+  if (!root->IsNull() && !root->IsMap()) {
     *error = path + ": top level must be a mapping";
     return false;
   }
+  return true;
+}
+
+std::map<std::string, Setter> TrajectoryKeys(Trajectory* t) {
+  return {
+      {"kind",
+       [t](const YAML::Node& n) {
+         const std::string kind = n.as<std::string>();
+         using Kind = Trajectory::Kind;
+         const std::map<std::string, Kind> kinds = {{"static", Kind::kStatic},
+                                                    {"linear", Kind::kLinear},
+                                                    {"circular", Kind::kCircular},
+                                                    {"leave-return", Kind::kLeaveReturn}};
+         auto it = kinds.find(kind);
+         if (it == kinds.end())
+           throw YAML::Exception(n.Mark(), "expected static, linear, circular or leave-return");
+         t->kind = it->second;
+       }},
+      {"start_xz_m", Vector2(&t->start_xz_m)},
+      {"velocity_xz_mps", Vector2(&t->velocity_xz_mps)},
+      {"centre_xz_m", Vector2(&t->centre_xz_m)},
+      {"radius_m", Scalar(&t->radius_m)},
+      {"period_s", Scalar(&t->period_s)},
+      {"yaw_rad", Scalar(&t->yaw_rad)},
+      {"yaw_rate_radps", Scalar(&t->yaw_rate_radps)},
+  };
+}
+
+}  // namespace
+
+bool LoadScenario(const std::string& path, Scenario* scenario, std::string* error) {
+  YAML::Node root;
+  if (!LoadRoot(path, &root, error)) return false;
+  if (root.IsNull() || !root["preset"]) {
+    *error = path + ": key 'preset': required (one of the named scenarios to start from)";
+    return false;
+  }
+  const auto preset = ScenarioPreset(root["preset"].as<std::string>());
+  if (!preset) {
+    *error = path + ": key 'preset': unknown scenario '" + root["preset"].as<std::string>() + "'";
+    return false;
+  }
+  Scenario& s = *scenario;
+  s = *preset;
+  KinectNoise& n = s.noise;
+  const std::map<std::string, Setter> top = {
+      {"preset", [](const YAML::Node&) {}},
+      {"name", Scalar(&s.name)},
+      {"frames", Scalar(&s.frames)},
+      {"rate_hz", Scalar(&s.rate_hz)},
+      {"seed", Scalar(&s.seed)},
+      {"table_height_m", Scalar(&s.table_height_m)},
+      {"occluded_from", Scalar(&s.occluded_from)},
+      {"occluded_frames", Scalar(&s.occluded_frames)},
+  };
+  const std::map<std::string, std::map<std::string, Setter>> sections = {
+      {"target_motion", TrajectoryKeys(&s.target_motion)},
+      {"camera_motion", TrajectoryKeys(&s.camera_motion)},
+      {"noise",
+       {{"enabled", Scalar(&n.enabled)},
+        {"sigma_at_1m_m", Scalar(&n.sigma_at_1m_m)},
+        {"disparity_step", Scalar(&n.disparity_step)},
+        {"baseline_m", Scalar(&n.baseline_m)},
+        {"min_range_m", Scalar(&n.min_range_m)},
+        {"max_range_m", Scalar(&n.max_range_m)},
+        {"grazing_cos", Scalar(&n.grazing_cos)}}},
+  };
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    if (auto section = sections.find(key); section != sections.end()) {
+      if (!ApplySection(kv.second, key, section->second, path, error)) return false;
+      continue;
+    }
+    auto it = top.find(key);
+    if (it == top.end()) {
+      *error = path + ": key '" + key + "': unknown key";
+      return false;
+    }
+    try {
+      it->second(kv.second);
+    } catch (const YAML::Exception& e) {
+      *error = path + ": key '" + key + "': wrong type (" + e.msg + ")";
+      return false;
+    }
+  }
+  std::string why;
+  if (!s.IsValid(&why)) {
+    *error = path + ": " + why;
+    return false;
+  }
+  return true;
+}
+
+bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, std::string* error) {
+  YAML::Node root;
+  if (!LoadRoot(path, &root, error)) return false;
+  if (root.IsNull()) return true;  // an empty file changes nothing
   RecognitionOptions& r = config->recognition;
   FoveaOptions& f = config->fovea;
   const std::map<std::string, Setter> recognition = {

@@ -4,6 +4,7 @@
 
 #include "core/foveation.h"
 #include "core/recognition.h"
+#include "core/scenario.h"
 
 #include <string>
 
@@ -21,5 +22,11 @@ struct RecognitionConfig {
 /// Applies the file over `config`. False with `error` = "FILE: key 'a.b': reason" on any
 /// unknown key, wrong type, out-of-range value or unreadable file.
 bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, std::string* error);
+
+/// A synthetic scenario file: `preset: NAME` (required, the starting point), then any of
+/// name, frames, rate_hz, seed, table_height_m, occluded_from, occluded_frames, and the
+/// sections target_motion / camera_motion (Trajectory fields; kind: static | linear | circular
+/// | leave-return) and noise (KinectNoise fields). Strict as LoadRecognitionConfig.
+bool LoadScenario(const std::string& path, Scenario* scenario, std::string* error);
 
 }  // namespace saccade

@@ -9,7 +9,7 @@ packages=(
   libopenni2-dev
   liblcm-dev liblcm-bin libglib2.0-dev
   libtbb-dev libyaml-cpp-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libtiff-dev
 )
 
 missing=()

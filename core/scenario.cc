@@ -1,0 +1,211 @@
+#include "core/scenario.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace saccade {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+bool Fail(std::string* error, const std::string& message) {
+  if (error) *error = message;
+  return false;
+}
+
+// X_WC: the camera at time t in the world frame (the camera frame at t = 0).
+Eigen::Isometry3f CameraPose(const Trajectory& motion, double t) {
+  const Eigen::Vector2f xz = motion.PositionAt(t);
+  Eigen::Isometry3f X = Eigen::Isometry3f::Identity();
+  X.linear() = Eigen::AngleAxisf(motion.YawAt(t), Eigen::Vector3f::UnitY()).toRotationMatrix();
+  X.translation() = Eigen::Vector3f(xz.x(), 0.0f, xz.y());
+  return X;
+}
+
+Shape ScreenShape() {  // a board, 30 cm wide and 40 cm tall, standing on the table
+  return Shape{{Shape::Part::Box({0, 0, 0}, {0.15f, 0.2f, 0.01f})}};
+}
+
+std::vector<Scenario::Clutter> DemoClutter() {
+  using Part = Shape::Part;
+  return {
+      {Shape{{Part::Box({0, 0, 0}, {0.08f, 0.06f, 0.08f})}}, {-0.3f, 1.25f}, 0.3f, 0.06f},
+      {Shape{{Part::Sphere({0, 0, 0}, 0.06f)}}, {0.35f, 1.3f}, 0.0f, 0.06f},
+      {Shape{{Part::Box({0, 0, 0}, {0.035f, 0.09f, 0.035f})}}, {-0.15f, 0.8f}, 0.7f, 0.09f},
+  };
+}
+
+// §5.2 of the paper: a ball among clutter that grows scene by scene. Twelve objects of mixed
+// kinds and sizes, placed from the seed around the ball, never touching it.
+std::vector<Scenario::Clutter> ProtocolClutter(std::uint32_t seed, const Eigen::Vector2f& ball) {
+  using Part = Shape::Part;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<Scenario::Clutter> out;
+  while (out.size() < 12) {
+    const Eigen::Vector2f xz(-0.45f + 0.9f * unit(rng), 0.75f + 0.8f * unit(rng));
+    if ((xz - ball).norm() < 0.25f) continue;
+    bool crowded = false;
+    for (const auto& c : out) crowded = crowded || (c.xz_m - xz).norm() < 0.14f;
+    if (crowded) continue;
+    Scenario::Clutter c;
+    c.xz_m = xz;
+    c.yaw_rad = static_cast<float>(kTwoPi) * unit(rng);
+    const float s = 0.03f + 0.04f * unit(rng);
+    switch (out.size() % 3) {
+      case 0:
+        c.shape.parts.push_back(Part::Box({0, 0, 0}, {s, 0.8f * s + 0.02f, 0.7f * s}));
+        c.bottom_y_m = 0.8f * s + 0.02f;
+        break;
+      case 1:
+        c.shape.parts.push_back(Part::Sphere({0, 0, 0}, s));
+        c.bottom_y_m = s;
+        break;
+      default:  // a can: tall and narrow
+        c.shape.parts.push_back(Part::Box({0, 0, 0}, {0.6f * s, 2.0f * s, 0.6f * s}));
+        c.bottom_y_m = 2.0f * s;
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace
+
+Eigen::Vector2f Trajectory::PositionAt(double t) const {
+  switch (kind) {
+    case Kind::kStatic:
+      return start_xz_m;
+    case Kind::kLinear:
+      return start_xz_m + velocity_xz_mps * static_cast<float>(t);
+    case Kind::kCircular: {
+      const double a = kTwoPi * t / period_s;
+      return centre_xz_m + radius_m * Eigen::Vector2f(std::cos(a), std::sin(a));
+    }
+    case Kind::kLeaveReturn: {
+      const double half = period_s / 2, phase = std::fmod(t, static_cast<double>(period_s));
+      const double s = phase < half ? phase : period_s - phase;
+      return start_xz_m + velocity_xz_mps * static_cast<float>(s);
+    }
+  }
+  return start_xz_m;
+}
+
+float Trajectory::YawAt(double t) const { return yaw_rad + yaw_rate_radps * static_cast<float>(t); }
+
+bool Scenario::IsValid(std::string* error) const {
+  if (frames < 1) return Fail(error, "frames must be >= 1");
+  if (!(rate_hz > 0) || !std::isfinite(rate_hz)) return Fail(error, "rate_hz must be > 0");
+  if (!(table_height_m > 0) || !std::isfinite(table_height_m))
+    return Fail(error, "table_height_m must be > 0");
+  if (target.parts.empty()) return Fail(error, "target has no part");
+  for (const Trajectory* m : {&target_motion, &camera_motion})
+    if (!(m->period_s > 0)) return Fail(error, "trajectory period_s must be > 0");
+  if (occluded_frames < 0) return Fail(error, "occluded_frames must be >= 0");
+  return true;
+}
+
+Eigen::Vector3f ShapeCentre(const Shape& shape) {
+  Box b{Eigen::Vector3f::Constant(1e9f), Eigen::Vector3f::Constant(-1e9f)};
+  for (const auto& p : shape.parts) {
+    const Eigen::Vector3f half =
+        p.kind == Shape::Part::Kind::kBox ? p.half_size_m : Eigen::Vector3f::Constant(p.radius_m);
+    b.min = b.min.cwiseMin(p.centre_m - half);
+    b.max = b.max.cwiseMax(p.centre_m + half);
+  }
+  return (b.min + b.max) / 2;
+}
+
+ScenarioFrame RenderScenarioFrame(const Scenario& sc, int index, const CameraIntrinsics& k) {
+  ScenarioFrame out;
+  out.time_s = index / sc.rate_hz;
+  const Eigen::Isometry3f X_CW = CameraPose(sc.camera_motion, out.time_s).inverse();
+  const Eigen::Vector2f target_xz = sc.target_motion.PositionAt(out.time_s);
+  const Eigen::Isometry3f X_CO =
+      X_CW * PoseOnTable(target_xz.x(), target_xz.y(), sc.target_motion.YawAt(out.time_s),
+                         sc.table_height_m, sc.target_bottom_y_m);
+  constexpr std::uint32_t kTarget = 1;
+  std::vector<SceneObject> objects = {{sc.target, X_CO, kTarget}};
+  std::size_t shown = sc.clutter.size();
+  if (sc.clutter_grows) shown = std::min<std::size_t>(index, sc.clutter.size());
+  for (std::size_t i = 0; i < shown; ++i) {
+    const auto& c = sc.clutter[i];
+    objects.push_back({c.shape,
+                       X_CW * PoseOnTable(c.xz_m.x(), c.xz_m.y(), c.yaw_rad, sc.table_height_m,
+                                          c.bottom_y_m),
+                       static_cast<std::uint32_t>(i + 2)});
+  }
+  out.truth.target_pose = X_CO;
+  out.truth.centroid_m = X_CO * ShapeCentre(sc.target);
+  if (index >= sc.occluded_from && index < sc.occluded_from + sc.occluded_frames) {
+    // The screen stands on the table 35% of the way from the camera to the target, facing it.
+    const Eigen::Vector3f c = out.truth.centroid_m * 0.65f;
+    const float facing = std::atan2(c.x(), c.z());
+    objects.push_back({ScreenShape(), PoseOnTable(c.x(), c.z(), facing, sc.table_height_m, 0.2f),
+                       1000});
+  }
+  // The same seed per frame for the scene and the target alone: their noise draws match.
+  const std::uint32_t seed = sc.seed * 7919u + static_cast<std::uint32_t>(index);
+  out.rendered = RenderScene(objects, sc.table_height_m, k, sc.noise, seed);
+  const RenderedFrame alone =
+      RenderScene({objects.front()}, sc.table_height_m, k, sc.noise, seed);
+  const auto count = [&](const RenderedFrame& f) {
+    return std::count(f.label.begin(), f.label.end(), kTarget);
+  };
+  const auto whole = count(alone);
+  out.truth.visible_fraction =
+      whole > 0 ? static_cast<float>(count(out.rendered)) / static_cast<float>(whole) : 0.0f;
+  return out;
+}
+
+std::vector<std::string> ScenarioPresetNames() {
+  return {"static", "linear", "circular", "occluded", "leave-return", "paper-protocol"};
+}
+
+std::optional<Scenario> ScenarioPreset(const std::string& name) {
+  Scenario s;
+  s.name = name;
+  s.clutter = DemoClutter();
+  s.target_motion.start_xz_m = {0.0f, 1.0f};
+  s.target_motion.yaw_rad = 0.3f;
+  using Kind = Trajectory::Kind;
+  if (name == "static") {
+    s.frames = 30;
+  } else if (name == "linear") {  // 30 cm to the right in 3 s, turning slowly
+    s.target_motion.kind = Kind::kLinear;
+    s.target_motion.start_xz_m = {-0.15f, 1.0f};
+    s.target_motion.velocity_xz_mps = {0.1f, 0.0f};
+    s.target_motion.yaw_rate_radps = 0.05f;
+  } else if (name == "circular") {  // a 20 cm circle in 6 s
+    s.frames = 180;
+    s.target_motion.kind = Kind::kCircular;
+    s.target_motion.centre_xz_m = {0.0f, 1.05f};
+    s.target_motion.radius_m = 0.2f;
+    s.target_motion.period_s = 6.0f;
+  } else if (name == "occluded") {  // hidden behind a screen for half a second
+    s.frames = 60;
+    s.occluded_from = 20;
+    s.occluded_frames = 15;
+  } else if (name == "leave-return") {  // out of the right edge of the view and back, in 4 s
+    s.frames = 120;
+    s.target_motion.kind = Kind::kLeaveReturn;
+    s.target_motion.start_xz_m = {0.1f, 1.0f};
+    s.target_motion.velocity_xz_mps = {0.5f, 0.0f};
+    s.target_motion.period_s = 4.0f;
+  } else if (name == "paper-protocol") {  // 12 scenes of a ball among growing clutter
+    s.frames = 12;
+    s.rate_hz = 1.0;
+    s.target = Shape{{Shape::Part::Sphere({0, 0, 0}, 0.08f)}};
+    s.target_bottom_y_m = 0.08f;
+    s.target_motion.start_xz_m = {0.05f, 1.1f};
+    s.clutter = ProtocolClutter(s.seed, s.target_motion.start_xz_m);
+    s.clutter_grows = true;
+  } else {
+    return std::nullopt;
+  }
+  return s;
+}
+
+}  // namespace saccade

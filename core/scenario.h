@@ -1,0 +1,92 @@
+// Synthetic scenarios: a target and clutter on a table, moving along trajectories, rendered
+// frame by frame by the synthetic Kinect with the ground truth of every frame. Pure: a
+// scenario is a value and frame i is a function of it and i.
+#pragma once
+
+#include "core/synthetic.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace saccade {
+
+/// A motion on the table plane: the position (x, z of the camera frame at t = 0) and the yaw
+/// about the table's normal as functions of time t (seconds).
+struct Trajectory {
+  enum class Kind {
+    kStatic,       // stays at start
+    kLinear,       // start + velocity t
+    kCircular,     // around `centre` at `radius`, one turn per `period_s`, starting at angle 0
+    kLeaveReturn,  // out along velocity for half of `period_s`, back for the other half
+  } kind = Kind::kStatic;
+  Eigen::Vector2f start_xz_m = Eigen::Vector2f::Zero();
+  Eigen::Vector2f velocity_xz_mps = Eigen::Vector2f::Zero();
+  Eigen::Vector2f centre_xz_m = Eigen::Vector2f::Zero();
+  float radius_m = 0.0f;
+  float period_s = 10.0f;
+  float yaw_rad = 0.0f;        // at t = 0
+  float yaw_rate_radps = 0.0f;  // turning while moving
+
+  Eigen::Vector2f PositionAt(double t_s) const;
+  float YawAt(double t_s) const;
+};
+
+/// Everything that makes a sequence. Frame i is captured at t = i / rate_hz.
+struct Scenario {
+  std::string name;
+  int frames = 90;
+  double rate_hz = 30.0;
+  std::uint32_t seed = 1;
+  float table_height_m = 0.3f;  // the camera is this far above the table plane
+  Shape target = TargetShape();
+  float target_bottom_y_m = 0.05f;  // where the target's bottom face is in its own frame
+  Trajectory target_motion;
+  /// The camera pans (yaw) and slides parallel to the table; its height stays the same.
+  Trajectory camera_motion;
+  struct Clutter {
+    Shape shape;
+    Eigen::Vector2f xz_m = Eigen::Vector2f::Zero();  // where it stands (camera frame at t = 0)
+    float yaw_rad = 0.0f;
+    float bottom_y_m = 0.05f;
+  };
+  std::vector<Clutter> clutter;
+  /// Frames [occluded_from, occluded_from + occluded_frames) have a screen between the camera
+  /// and the target.
+  int occluded_from = -1;
+  int occluded_frames = 0;
+  KinectNoise noise;
+  /// Paper protocol (§5.2): frame i shows only the first min(i, clutter.size()) clutter
+  /// objects, so clutter grows along the sequence.
+  bool clutter_grows = false;
+
+  bool IsValid(std::string* error) const;
+};
+
+/// The truth of one frame, in the camera frame of that frame.
+struct GroundTruth {
+  Eigen::Isometry3f target_pose = Eigen::Isometry3f::Identity();  // X_CO
+  Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();  // centre of the target's bounding box
+  /// Visible target pixels over those it covers rendered alone (0 when out of view).
+  float visible_fraction = 0.0f;
+};
+
+struct ScenarioFrame {
+  RenderedFrame rendered;
+  GroundTruth truth;
+  double time_s = 0.0;
+};
+
+/// Renders frame `index` (0 <= index < scenario.frames) of a valid scenario.
+ScenarioFrame RenderScenarioFrame(const Scenario& scenario, int index,
+                                  const CameraIntrinsics& intrinsics = {});
+
+/// Named presets: static, linear, circular, occluded, leave-return, paper-protocol. nullopt
+/// for an unknown name.
+std::optional<Scenario> ScenarioPreset(const std::string& name);
+std::vector<std::string> ScenarioPresetNames();
+
+/// The centre of a shape's bounding box, in its own frame.
+Eigen::Vector3f ShapeCentre(const Shape& shape);
+
+}  // namespace saccade

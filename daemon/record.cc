@@ -1,0 +1,101 @@
+// saccade record: capture from any source into a folder (PCD or depth images, with ground
+// truth) or an .oni recording.
+#include "daemon/args.h"
+#include "daemon/commands.h"
+#include "daemon/signals.h"
+#include "io/frame_source.h"
+#include "io/frame_writer.h"
+#include "io/openni2_source.h"
+
+#include <signal.h>
+
+#include <filesystem>
+#include <mutex>
+#include <ostream>
+
+namespace saccade {
+
+int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
+  Args args;
+  std::string error;
+  if (!args.Parse(argv, {"source", "out", "frames", "format"}, {}, &error))
+    return Usage(err, "record", error);
+  if (!args.Has("source") || !args.Has("out"))
+    return Usage(err, "record", "--source and --out are required");
+  std::optional<int> frames;
+  if (args.Has("frames")) {
+    frames = Args::ParsePositiveInt(args.Get("frames"));
+    if (!frames) return Usage(err, "record", "--frames must be a whole number >= 1");
+  }
+  const std::string format = args.Get("format", "pcd");
+  if (format != "pcd" && format != "depth" && format != "oni")
+    return Usage(err, "record", "--format must be pcd, depth or oni");
+  const std::string dir = args.Get("out");
+
+  // Ctrl-C or SIGTERM ends a recording cleanly: what was captured is kept.
+  FrameSource* running = nullptr;
+  std::mutex running_mutex;
+  SignalWaiter signals([&](int signo) {
+    if (signo == SIGHUP) return;
+    std::lock_guard<std::mutex> lock(running_mutex);
+    if (running) running->Stop();
+  });
+  auto source = OpenSource(args.Get("source"), &error);
+  if (!source) {
+    err << "saccade record: " << error << "\n";
+    return kExitFailure;
+  }
+  {
+    std::lock_guard<std::mutex> lock(running_mutex);
+    running = source.get();
+  }
+  std::unique_ptr<FrameWriter> writer;
+  if (format == "oni") {
+    auto* openni = dynamic_cast<OpenNI2Source*>(source.get());
+    if (!openni) {
+      err << "saccade record: --format oni needs an OpenNI2 source (openni2:// or .oni); "
+             "record depth images and play them through the virtual device instead "
+             "(docs/SOURCES.md)\n";
+      return kExitUsage;
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (!openni->StartRecording((std::filesystem::path(dir) / "recording.oni").string(),
+                                &error)) {
+      err << "saccade record: " << error << "\n";
+      return kExitFailure;
+    }
+  } else {
+    writer = FrameWriter::Open(
+        dir, format == "pcd" ? FrameWriter::Format::kPcd : FrameWriter::Format::kDepth, &error);
+    if (!writer) {
+      err << "saccade record: " << error << "\n";
+      return kExitFailure;
+    }
+  }
+  int taken = 0;
+  Frame frame;
+  int code = kExitOk;
+  while (!frames || taken < *frames) {
+    const auto status = source->Next(&frame, &error);
+    if (status == FrameSource::Status::kEnd) break;
+    if (status == FrameSource::Status::kError ||
+        (writer && !writer->Write(frame, &error))) {
+      err << "saccade record: " << error << "\n";
+      code = kExitFailure;
+      break;
+    }
+    ++taken;
+  }
+  if (auto* openni = dynamic_cast<OpenNI2Source*>(source.get())) openni->StopRecording();
+  {
+    std::lock_guard<std::mutex> lock(running_mutex);
+    running = nullptr;
+  }
+  const SourceStats stats = source->Stats();
+  out << "recorded " << taken << " frame(s) from " << source->Describe() << " to " << dir << " ("
+      << format << "), " << stats.dropped << " dropped\n";
+  return code;
+}
+
+}  // namespace saccade

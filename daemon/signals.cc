@@ -1,0 +1,43 @@
+#include "daemon/signals.h"
+
+#include <pthread.h>
+#include <signal.h>
+
+namespace saccade {
+
+namespace {
+
+sigset_t Handled(bool with_wakeup) {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGHUP);
+  if (with_wakeup) sigaddset(&set, SIGUSR2);  // the destructor's wake-up call
+  return set;
+}
+
+}  // namespace
+
+SignalWaiter::SignalWaiter(std::function<void(int)> on_signal) : on_signal_(std::move(on_signal)) {
+  const sigset_t set = Handled(true);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  thread_ = std::thread([this] {
+    const sigset_t wait_set = Handled(true);
+    for (;;) {
+      int signo = 0;
+      if (sigwait(&wait_set, &signo) != 0) continue;
+      if (signo == SIGUSR2) return;
+      on_signal_(signo);
+    }
+  });
+}
+
+SignalWaiter::~SignalWaiter() {
+  pthread_kill(thread_.native_handle(), SIGUSR2);
+  thread_.join();
+  const sigset_t set = Handled(true);
+  pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+}
+
+}  // namespace saccade

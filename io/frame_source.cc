@@ -1,0 +1,510 @@
+#include "io/frame_source.h"
+
+#include "core/features.h"
+#include "io/cloud_io.h"
+#include "io/config.h"
+#include "io/images.h"
+#include "io/mailbox.h"
+#include "io/openni2_source.h"
+#include "io/truth_file.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <thread>
+
+namespace saccade {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool Fail(std::string* error, const std::string& message) {
+  if (error) *error = message;
+  return false;
+}
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// A finite, indexable sequence of frames (files or a scenario), read on demand.
+class Sequence {
+ public:
+  virtual ~Sequence() = default;
+  virtual std::size_t size() const = 0;
+  /// Frame `i` (0 <= i < size()); capture_utime relative to the sequence's start.
+  virtual bool Read(std::size_t i, Frame* frame, std::string* error) const = 0;
+  virtual std::string Describe() const = 0;
+};
+
+// Plays a Sequence: once or looping; paced at `rate_hz` on its own thread into a latest-frame
+// mailbox (live), or as fast as the consumer asks (rate 0).
+class SequenceSource : public FrameSource {
+ public:
+  SequenceSource(std::unique_ptr<Sequence> sequence, double rate_hz, bool loop)
+      : sequence_(std::move(sequence)), rate_hz_(rate_hz), loop_(loop) {
+    if (Live()) producer_ = std::thread([this] { Produce(); });
+  }
+  ~SequenceSource() override {
+    Stop();
+    if (producer_.joinable()) producer_.join();
+  }
+
+  Status Next(Frame* frame, std::string* error) override {
+    if (!Live()) {
+      if (stopped_) return Status::kEnd;
+      const Status s = ReadNext(frame, error);
+      if (s == Status::kEnd) SetState("ended");
+      return s;
+    }
+    auto item = mailbox_.Take();
+    if (!item) return Status::kEnd;
+    if (item->status == Status::kFrame) *frame = std::move(item->frame);
+    if (item->status == Status::kError && error) *error = item->error;
+    return item->status;
+  }
+
+  void Stop() override {
+    stopped_ = true;
+    mailbox_.CloseAndClear();
+  }
+
+  SourceStats Stats() const override {
+    SourceStats s;
+    s.produced = produced_;
+    s.dropped = mailbox_.dropped();
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    s.state = state_;
+    return s;
+  }
+
+  bool Live() const override { return rate_hz_ > 0; }
+  std::string Describe() const override { return sequence_->Describe(); }
+
+ private:
+  struct Item {
+    Status status = Status::kFrame;
+    Frame frame;
+    std::string error;
+  };
+
+  void SetState(const std::string& state) {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    state_ = state;
+  }
+
+  Status ReadNext(Frame* frame, std::string* error) {
+    const std::size_t n = sequence_->size();
+    if (next_ >= n && !loop_) return Status::kEnd;
+    const std::size_t pass = next_ / n, i = next_ % n;
+    if (!sequence_->Read(i, frame, error)) {
+      SetState("error");
+      return Status::kError;
+    }
+    // Each pass through a loop continues the clock where the last one ended.
+    const double period_us = 1e6 / (rate_hz_ > 0 ? rate_hz_ : 30.0);
+    frame->capture_utime += static_cast<std::int64_t>(pass * n * period_us);
+    frame->sequence = next_++;
+    ++produced_;
+    return Status::kFrame;
+  }
+
+  void Produce() {
+    using Clock = std::chrono::steady_clock;
+    const auto period = std::chrono::duration<double>(1.0 / rate_hz_);
+    auto due = Clock::now();
+    while (!stopped_) {
+      Item item;
+      item.status = ReadNext(&item.frame, &item.error);
+      if (item.status != Status::kFrame) {
+        SetState(item.status == Status::kEnd ? "ended" : "error: " + item.error);
+        if (item.status == Status::kError) mailbox_.Put(std::move(item));
+        mailbox_.Close();
+        return;
+      }
+      // A sensor's clock, not the reader's: wait for this frame's moment, then publish.
+      due += std::chrono::duration_cast<Clock::duration>(period);
+      std::this_thread::sleep_until(due);
+      mailbox_.Put(std::move(item));
+    }
+  }
+
+  std::unique_ptr<Sequence> sequence_;
+  const double rate_hz_;
+  const bool loop_;
+  std::atomic<bool> stopped_{false};
+  std::size_t next_ = 0;  // only the producer (live) or the consumer (not live) touches it
+  std::atomic<std::uint64_t> produced_{0};
+  LatestMailbox<Item> mailbox_;
+  mutable std::mutex state_mutex_;
+  std::string state_ = "streaming";
+  std::thread producer_;
+};
+
+// Files of a folder whose names pass `keep`, in name order.
+std::vector<std::string> ListFiles(const std::string& dir, const std::function<bool(const std::string&)>& keep) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && keep(name)) out.push_back(entry.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::int64_t NominalUtime(std::size_t i, double rate_hz) {
+  return static_cast<std::int64_t>(std::llround(i * 1e6 / (rate_hz > 0 ? rate_hz : 30.0)));
+}
+
+// Ground truth recorded beside files (truth.csv), by row.
+std::vector<std::optional<GroundTruth>> TruthBeside(const std::string& dir, std::size_t n,
+                                                    std::string* error, bool* ok) {
+  std::vector<std::optional<GroundTruth>> truth(n);
+  *ok = true;
+  const std::string path = (fs::path(dir) / kTruthFileName).string();
+  if (!fs::exists(path)) return truth;
+  std::vector<TruthRow> rows;
+  if (!ReadTruthFile(path, &rows, error)) {
+    *ok = false;
+    return truth;
+  }
+  for (std::size_t i = 0; i < rows.size() && i < n; ++i) truth[i] = rows[i].truth;
+  return truth;
+}
+
+class PcdSequence : public Sequence {
+ public:
+  PcdSequence(std::vector<std::string> files, std::vector<std::optional<GroundTruth>> truth,
+              double rate_hz, std::string dir)
+      : files_(std::move(files)), truth_(std::move(truth)), rate_hz_(rate_hz), dir_(std::move(dir)) {}
+  std::size_t size() const override { return files_.size(); }
+  bool Read(std::size_t i, Frame* frame, std::string* error) const override {
+    auto cloud = LoadCloud(files_[i], error);
+    if (!cloud) return false;
+    if (cloud->height <= 1) return Fail(error, files_[i] + ": not an organized cloud (height 1)");
+    const auto k = EstimateIntrinsics(*cloud);
+    if (!k) return Fail(error, files_[i] + ": cannot estimate intrinsics (too few points)");
+    frame->intrinsics = *k;
+    frame->cloud = std::make_shared<const Cloud>(std::move(*cloud));
+    frame->capture_utime = NominalUtime(i, rate_hz_);
+    frame->truth = truth_[i];
+    return true;
+  }
+  std::string Describe() const override {
+    return "pcd:" + dir_ + " (" + std::to_string(files_.size()) + " files)";
+  }
+
+ private:
+  std::vector<std::string> files_;
+  std::vector<std::optional<GroundTruth>> truth_;
+  double rate_hz_;
+  std::string dir_;
+};
+
+class DepthSequence : public Sequence {
+ public:
+  DepthSequence(std::vector<std::string> depth, std::vector<std::string> rgb,
+                std::vector<std::optional<GroundTruth>> truth, CameraIntrinsics k, double rate_hz,
+                std::string dir)
+      : depth_(std::move(depth)),
+        rgb_(std::move(rgb)),
+        truth_(std::move(truth)),
+        k_(k),
+        rate_hz_(rate_hz),
+        dir_(std::move(dir)) {}
+  std::size_t size() const override { return depth_.size(); }
+  bool Read(std::size_t i, Frame* frame, std::string* error) const override {
+    DepthImage depth;
+    if (!ReadDepthImage(depth_[i], &depth, error)) return false;
+    if (depth.width != k_.width || depth.height != k_.height)
+      return Fail(error, depth_[i] + ": image is " + std::to_string(depth.width) + "x" +
+                             std::to_string(depth.height) + ", intrinsics say " +
+                             std::to_string(k_.width) + "x" + std::to_string(k_.height));
+    RgbImage rgb;
+    if (!rgb_[i].empty()) {
+      if (!ReadRgbImage(rgb_[i], &rgb, error)) return false;
+      if (rgb.width != depth.width || rgb.height != depth.height)
+        return Fail(error, rgb_[i] + ": colour image size differs from its depth image");
+    }
+    frame->intrinsics = k_;
+    frame->cloud = std::make_shared<const Cloud>(
+        DepthToCloud(depth.data.data(), rgb.data.empty() ? nullptr : rgb.data.data(), k_));
+    frame->capture_utime = NominalUtime(i, rate_hz_);
+    frame->truth = truth_[i];
+    return true;
+  }
+  std::string Describe() const override {
+    return "depth:" + dir_ + " (" + std::to_string(depth_.size()) + " frames)";
+  }
+
+ private:
+  std::vector<std::string> depth_, rgb_;
+  std::vector<std::optional<GroundTruth>> truth_;
+  CameraIntrinsics k_;
+  double rate_hz_;
+  std::string dir_;
+};
+
+class ScenarioSequence : public Sequence {
+ public:
+  explicit ScenarioSequence(Scenario s) : s_(std::move(s)) {}
+  std::size_t size() const override { return static_cast<std::size_t>(s_.frames); }
+  bool Read(std::size_t i, Frame* frame, std::string*) const override {
+    ScenarioFrame f = RenderScenarioFrame(s_, static_cast<int>(i), k_);
+    frame->intrinsics = k_;
+    frame->cloud = std::make_shared<const Cloud>(std::move(f.rendered.cloud));
+    frame->capture_utime = static_cast<std::int64_t>(std::llround(f.time_s * 1e6));
+    frame->truth = f.truth;
+    return true;
+  }
+  std::string Describe() const override {
+    return "synthetic:" + s_.name + " (" + std::to_string(s_.frames) + " frames, seed " +
+           std::to_string(s_.seed) + ")";
+  }
+
+ private:
+  Scenario s_;
+  CameraIntrinsics k_;
+};
+
+// Typed option readers: false with an error naming the spec and the option.
+bool OptionNumber(const SourceSpec& spec, const std::string& key, double fallback, double* out,
+                  std::string* error) {
+  auto it = spec.options.find(key);
+  if (it == spec.options.end()) {
+    *out = fallback;
+    return true;
+  }
+  char* end = nullptr;
+  *out = std::strtod(it->second.c_str(), &end);
+  if (it->second.empty() || *end != '\0' || !std::isfinite(*out) || *out < 0)
+    return Fail(error, "source '" + spec.kind + ":" + spec.target + "': option " + key +
+                           "=" + it->second + " is not a number >= 0");
+  return true;
+}
+
+bool OptionBool(const SourceSpec& spec, const std::string& key, bool* out, std::string* error) {
+  auto it = spec.options.find(key);
+  if (it == spec.options.end()) return true;
+  if (it->second == "1" || it->second == "true") {
+    *out = true;
+  } else if (it->second == "0" || it->second == "false") {
+    *out = false;
+  } else {
+    return Fail(error, "source '" + spec.kind + ":" + spec.target + "': option " + key + "=" +
+                           it->second + " is not 0/1/true/false");
+  }
+  return true;
+}
+
+bool OnlyOptions(const SourceSpec& spec, std::initializer_list<const char*> allowed,
+                 std::string* error) {
+  for (const auto& [key, value] : spec.options) {
+    if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
+      return Fail(error, "source '" + spec.kind + ":" + spec.target + "': unknown option '" +
+                             key + "'");
+  }
+  return true;
+}
+
+std::unique_ptr<FrameSource> OpenFiles(const SourceSpec& spec, std::string* error) {
+  double rate = 0;
+  bool loop = false;
+  if (!OnlyOptions(spec, {"rate", "loop", "intrinsics"}, error) ||
+      !OptionNumber(spec, "rate", 0, &rate, error) || !OptionBool(spec, "loop", &loop, error))
+    return nullptr;
+  if (spec.kind == "pcd" && spec.options.count("intrinsics")) {
+    Fail(error, "source 'pcd:" + spec.target + "': option 'intrinsics' is for depth: sources");
+    return nullptr;
+  }
+  if (!fs::is_directory(spec.target)) {
+    Fail(error, spec.target + ": no such folder (source '" + spec.kind + ":" + spec.target + "')");
+    return nullptr;
+  }
+  bool truth_ok = true;
+  if (spec.kind == "pcd") {
+    auto files = ListFiles(spec.target, [](const std::string& n) { return EndsWith(n, ".pcd"); });
+    if (files.empty()) {
+      Fail(error, spec.target + ": no .pcd file in the folder");
+      return nullptr;
+    }
+    auto truth = TruthBeside(spec.target, files.size(), error, &truth_ok);
+    if (!truth_ok) return nullptr;
+    return std::make_unique<SequenceSource>(
+        std::make_unique<PcdSequence>(std::move(files), std::move(truth), rate, spec.target),
+        rate, loop);
+  }
+  const auto is_image = [](const std::string& n) {
+    return EndsWith(n, ".png") || EndsWith(n, ".tif") || EndsWith(n, ".tiff");
+  };
+  auto depth = ListFiles(spec.target, [&](const std::string& n) {
+    return is_image(n) && n.find("depth") != std::string::npos;
+  });
+  if (depth.empty()) {
+    Fail(error, spec.target + ": no depth image (PNG or TIFF named *depth*) in the folder");
+    return nullptr;
+  }
+  std::vector<std::string> rgb;
+  for (const auto& d : depth) {
+    std::string name = fs::path(d).filename().string();
+    name.replace(name.rfind("depth"), 5, "rgb");
+    const fs::path partner = fs::path(d).parent_path() / name;
+    rgb.push_back(fs::exists(partner) ? partner.string() : "");
+  }
+  const auto it = spec.options.find("intrinsics");
+  const std::string k_path = it != spec.options.end()
+                                 ? it->second
+                                 : (fs::path(spec.target) / "intrinsics.yaml").string();
+  IntrinsicsFile kf;
+  if (!ReadIntrinsicsFile(k_path, &kf, error)) return nullptr;
+  CameraIntrinsics k;
+  k.fx = kf.fx, k.fy = kf.fy, k.cx = kf.cx, k.cy = kf.cy, k.width = kf.width, k.height = kf.height;
+  auto truth = TruthBeside(spec.target, depth.size(), error, &truth_ok);
+  if (!truth_ok) return nullptr;
+  return std::make_unique<SequenceSource>(
+      std::make_unique<DepthSequence>(std::move(depth), std::move(rgb), std::move(truth), k, rate,
+                                      spec.target),
+      rate, loop);
+}
+
+std::unique_ptr<FrameSource> OpenSynthetic(const SourceSpec& spec, std::string* error) {
+  if (!OnlyOptions(spec, {"rate", "loop", "frames", "seed"}, error)) return nullptr;
+  Scenario scenario;
+  if (auto preset = ScenarioPreset(spec.target)) {
+    scenario = *preset;
+  } else if (EndsWith(spec.target, ".yaml") || EndsWith(spec.target, ".yml") ||
+             fs::exists(spec.target)) {
+    if (!LoadScenario(spec.target, &scenario, error)) return nullptr;
+  } else {
+    std::string names;
+    for (const auto& n : ScenarioPresetNames()) names += (names.empty() ? "" : ", ") + n;
+    Fail(error, "source 'synthetic:" + spec.target + "': no such scenario (presets: " + names +
+                    "; or a YAML file)");
+    return nullptr;
+  }
+  double rate = scenario.rate_hz, frames = scenario.frames, seed = scenario.seed;
+  bool loop = false;
+  if (!OptionNumber(spec, "rate", scenario.rate_hz, &rate, error) ||
+      !OptionNumber(spec, "frames", scenario.frames, &frames, error) ||
+      !OptionNumber(spec, "seed", scenario.seed, &seed, error) ||
+      !OptionBool(spec, "loop", &loop, error))
+    return nullptr;
+  if (frames < 1 || frames > 1e7 || frames != std::floor(frames) || seed != std::floor(seed)) {
+    Fail(error, "source 'synthetic:" + spec.target + "': frames and seed must be whole numbers, frames >= 1");
+    return nullptr;
+  }
+  scenario.frames = static_cast<int>(frames);
+  scenario.seed = static_cast<std::uint32_t>(seed);
+  if (rate > 0) scenario.rate_hz = rate;  // the scene's clock follows the sensor's
+  return std::make_unique<SequenceSource>(std::make_unique<ScenarioSequence>(scenario), rate, loop);
+}
+
+}  // namespace
+
+std::optional<SourceSpec> ParseSourceSpec(const std::string& text, std::string* error) {
+  SourceSpec spec;
+  std::string body = text, query;
+  const auto q = text.find('?');
+  if (q != std::string::npos) body = text.substr(0, q), query = text.substr(q + 1);
+  if (body.rfind("openni2://", 0) == 0) {
+    spec.kind = "openni2";
+    spec.target = body.substr(10);
+  } else if (EndsWith(body, ".oni")) {
+    spec.kind = "oni";
+    spec.target = body;
+  } else {
+    const auto colon = body.find(':');
+    if (colon == std::string::npos || colon == 0 || colon + 1 == body.size()) {
+      Fail(error, "source '" + text +
+                      "': expected openni2://[DEVICE], PATH.oni, pcd:DIR, depth:DIR or "
+                      "synthetic:NAME");
+      return std::nullopt;
+    }
+    spec.kind = body.substr(0, colon);
+    spec.target = body.substr(colon + 1);
+    if (spec.kind != "pcd" && spec.kind != "depth" && spec.kind != "synthetic") {
+      Fail(error, "source '" + text + "': unknown kind '" + spec.kind +
+                      "' (openni2://, .oni, pcd:, depth:, synthetic:)");
+      return std::nullopt;
+    }
+  }
+  std::size_t start = 0;
+  while (!query.empty() && start <= query.size()) {
+    const auto amp = std::min(query.find('&', start), query.size());
+    const std::string pair = query.substr(start, amp - start);
+    const auto eq = pair.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      Fail(error, "source '" + text + "': option '" + pair + "' is not key=value");
+      return std::nullopt;
+    }
+    spec.options[pair.substr(0, eq)] = pair.substr(eq + 1);
+    start = amp + 1;
+  }
+  return spec;
+}
+
+std::unique_ptr<FrameSource> OpenSource(const std::string& text, std::string* error) {
+  const auto spec = ParseSourceSpec(text, error);
+  if (!spec) return nullptr;
+  if (spec->kind == "pcd" || spec->kind == "depth") return OpenFiles(*spec, error);
+  if (spec->kind == "synthetic") return OpenSynthetic(*spec, error);
+  if (spec->kind == "oni") {
+    if (!OnlyOptions(*spec, {"mode", "loop"}, error)) return nullptr;
+    OniPlaybackOptions o;
+    if (!OptionBool(*spec, "loop", &o.loop, error)) return nullptr;
+    const auto mode = spec->options.find("mode");
+    if (mode != spec->options.end()) {
+      if (mode->second == "realtime") {
+        o.mode = OniPlaybackOptions::Mode::kRealtime;
+      } else if (mode->second == "fast") {
+        o.mode = OniPlaybackOptions::Mode::kFast;
+      } else if (mode->second == "step") {
+        o.mode = OniPlaybackOptions::Mode::kStep;
+      } else {
+        Fail(error, "source '" + text + "': mode must be realtime, fast or step");
+        return nullptr;
+      }
+    }
+    return OpenOniPlayback(spec->target, o, error);
+  }
+  if (!OnlyOptions(*spec, {}, error)) return nullptr;
+  return OpenOpenNI2Device(spec->target, error);
+}
+
+Cloud DepthToCloud(const std::uint16_t* depth_mm, const std::uint8_t* rgb,
+                   const CameraIntrinsics& k) {
+  Cloud cloud;
+  cloud.width = static_cast<std::uint32_t>(k.width);
+  cloud.height = static_cast<std::uint32_t>(k.height);
+  cloud.is_dense = false;
+  cloud.resize(static_cast<std::size_t>(k.width) * k.height);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
+      PointT& p = cloud[i];
+      if (rgb) {
+        p.r = rgb[3 * i], p.g = rgb[3 * i + 1], p.b = rgb[3 * i + 2];
+      } else {
+        p.r = p.g = p.b = 0;
+      }
+      p.a = 255;
+      if (depth_mm[i] == 0) {
+        p.x = p.y = p.z = nan;
+        continue;
+      }
+      const float z = depth_mm[i] * 0.001f;
+      p.x = static_cast<float>((u - k.cx) * z / k.fx);
+      p.y = static_cast<float>((v - k.cy) * z / k.fy);
+      p.z = z;
+    }
+  }
+  return cloud;
+}
+
+}  // namespace saccade

@@ -1,0 +1,79 @@
+// Where frames come from: OpenNI2 devices and .oni recordings, PCD and depth-image sequences,
+// and the synthetic Kinect, behind one interface made from a spec string.
+#pragma once
+
+#include "core/scenario.h"
+#include "core/types.h"
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace saccade {
+
+/// One depth frame. The cloud is organized, in the camera optical frame, in metres; pixels
+/// without depth are NaN. Shared and immutable once made, so stages can hold it cheaply.
+struct Frame {
+  std::uint64_t sequence = 0;  // 0, 1, 2... in the order the source produced frames
+  /// Capture time in microseconds: the sensor's timestamp when it has one, else the
+  /// sequence's own clock (synthetic: frame time; files: rate or file order), else wall time.
+  std::int64_t capture_utime = 0;
+  std::shared_ptr<const Cloud> cloud;
+  CameraIntrinsics intrinsics;
+  std::optional<GroundTruth> truth;  // synthetic frames and recordings that carry it
+};
+
+/// What a source is doing, for the daemon's status.
+struct SourceStats {
+  std::uint64_t produced = 0;  // frames the source made
+  std::uint64_t dropped = 0;   // live frames overwritten before the consumer took them
+  std::uint64_t reconnects = 0;
+  std::string state;  // "streaming", "ended", "reconnecting: why", ...
+};
+
+class FrameSource {
+ public:
+  enum class Status { kFrame, kEnd, kError };
+  virtual ~FrameSource() = default;
+  /// Blocks until the next frame, the end of a finite source, or an error the source cannot
+  /// recover from (`error` says what). After Stop(), returns kEnd promptly.
+  virtual Status Next(Frame* frame, std::string* error) = 0;
+  /// Wakes a blocked Next(); safe from any thread (a signal handler's thread, for instance).
+  virtual void Stop() = 0;
+  virtual SourceStats Stats() const = 0;
+  /// True when frames arrive at the sensor's pace whether or not anyone reads them.
+  virtual bool Live() const = 0;
+  virtual std::string Describe() const = 0;
+};
+
+/// How a spec is read. Options come after '?' as key=value pairs joined by '&':
+///   openni2://             the first OpenNI2 device (openni2://#N: the N-th, 0-based;
+///                          openni2://URI or openni2://SERIAL: that device)
+///   PATH.oni               OpenNI2 playback; mode=realtime|fast|step (default fast), loop=0|1
+///   pcd:DIR                PCD files in name order; rate=HZ (0: as fast as read), loop=0|1
+///   depth:DIR              16-bit PNG/TIFF depth in millimetres (names containing "depth"),
+///                          RGB optional (the same name with "rgb"), DIR/intrinsics.yaml or
+///                          intrinsics=FILE; rate=HZ, loop=0|1
+///   synthetic:NAME         a preset (see ScenarioPresetNames) or a scenario YAML file;
+///                          frames=N, seed=S, rate=HZ (0: as fast as rendered), loop=0|1
+/// A source with rate > 0 is live: it runs at that rate on its own thread into a latest-frame
+/// mailbox and counts what its consumer did not take in time. nullptr with one line in
+/// `error` when the spec is malformed or the source cannot be opened.
+std::unique_ptr<FrameSource> OpenSource(const std::string& spec, std::string* error);
+
+/// A spec split into its kind, its target and its options.
+struct SourceSpec {
+  std::string kind;    // "openni2", "oni", "pcd", "depth", "synthetic"
+  std::string target;  // device, path or scenario name
+  std::map<std::string, std::string> options;
+};
+std::optional<SourceSpec> ParseSourceSpec(const std::string& spec, std::string* error);
+
+/// Depth in millimetres (0: no return) to an organized cloud in metres; `rgb` (3 bytes per
+/// pixel) may be null. Pixels whose depth is 0 become NaN.
+Cloud DepthToCloud(const std::uint16_t* depth_mm, const std::uint8_t* rgb,
+                   const CameraIntrinsics& intrinsics);
+
+}  // namespace saccade

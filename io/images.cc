@@ -1,0 +1,169 @@
+#include "io/images.h"
+
+#include <png.h>
+#include <tiffio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <sstream>
+
+namespace saccade {
+
+namespace {
+
+bool Fail(std::string* error, const std::string& path, const std::string& why) {
+  if (error) *error = path + ": " + why;
+  return false;
+}
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+bool IsTiff(const std::string& path) { return EndsWith(path, ".tif") || EndsWith(path, ".tiff"); }
+
+// Reads any PNG into 8- or 16-bit samples, with libpng's simplified API.
+template <typename T>
+bool ReadPng(const std::string& path, std::uint32_t format, int channels, Image<T>* image,
+             std::string* error) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_file(&png, path.c_str()))
+    return Fail(error, path, std::string("cannot read PNG: ") + png.message);
+  png.format = format;
+  image->width = static_cast<int>(png.width);
+  image->height = static_cast<int>(png.height);
+  image->channels = channels;
+  image->data.assign(PNG_IMAGE_SIZE(png) / sizeof(T), 0);
+  if (!png_image_finish_read(&png, nullptr, image->data.data(), 0, nullptr)) {
+    const std::string why = png.message;
+    png_image_free(&png);
+    return Fail(error, path, "corrupt PNG: " + why);
+  }
+  return true;
+}
+
+template <typename T>
+bool WritePng(const std::string& path, std::uint32_t format, const Image<T>& image,
+              std::string* error) {
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  png.width = static_cast<png_uint_32>(image.width);
+  png.height = static_cast<png_uint_32>(image.height);
+  png.format = format;
+  if (!png_image_write_to_file(&png, path.c_str(), 0, image.data.data(), 0, nullptr))
+    return Fail(error, path, std::string("cannot write PNG: ") + png.message);
+  return true;
+}
+
+struct TiffCloser {
+  void operator()(TIFF* t) const { TIFFClose(t); }
+};
+
+// Reads a strip or tiled TIFF of `bits`-bit samples; keeps the first `keep` channels.
+template <typename T>
+bool ReadTiff(const std::string& path, int keep, Image<T>* image, std::string* error) {
+  TIFFSetErrorHandler(nullptr);
+  TIFFSetWarningHandler(nullptr);
+  std::unique_ptr<TIFF, TiffCloser> tif(TIFFOpen(path.c_str(), "r"));
+  if (!tif) return Fail(error, path, "cannot open as TIFF");
+  std::uint32_t w = 0, h = 0;
+  std::uint16_t bits = 0, spp = 1;
+  TIFFGetField(tif.get(), TIFFTAG_IMAGEWIDTH, &w);
+  TIFFGetField(tif.get(), TIFFTAG_IMAGELENGTH, &h);
+  TIFFGetFieldDefaulted(tif.get(), TIFFTAG_BITSPERSAMPLE, &bits);
+  TIFFGetFieldDefaulted(tif.get(), TIFFTAG_SAMPLESPERPIXEL, &spp);
+  if (bits != 8 * sizeof(T))
+    return Fail(error, path, "expected " + std::to_string(8 * sizeof(T)) + "-bit samples, found " +
+                                 std::to_string(bits));
+  if (spp < keep) return Fail(error, path, "expected " + std::to_string(keep) + " channel(s)");
+  if (TIFFIsTiled(tif.get())) return Fail(error, path, "tiled TIFF is not supported");
+  image->width = static_cast<int>(w);
+  image->height = static_cast<int>(h);
+  image->channels = keep;
+  image->data.assign(static_cast<std::size_t>(w) * h * keep, 0);
+  std::vector<T> row(static_cast<std::size_t>(TIFFScanlineSize(tif.get())) / sizeof(T) + spp);
+  for (std::uint32_t y = 0; y < h; ++y) {
+    if (TIFFReadScanline(tif.get(), row.data(), y, 0) < 0)
+      return Fail(error, path, "corrupt TIFF at row " + std::to_string(y));
+    for (std::uint32_t x = 0; x < w; ++x)
+      for (int c = 0; c < keep; ++c)
+        image->data[(static_cast<std::size_t>(y) * w + x) * keep + c] = row[x * spp + c];
+  }
+  return true;
+}
+
+}  // namespace
+
+bool ReadDepthImage(const std::string& path, DepthImage* image, std::string* error) {
+  if (IsTiff(path)) return ReadTiff(path, 1, image, error);
+  // PNG_FORMAT_LINEAR_Y is 16-bit grey; libpng passes 16-bit grey samples through unchanged.
+  if (!ReadPng(path, PNG_FORMAT_LINEAR_Y, 1, image, error)) return false;
+  return true;
+}
+
+bool ReadRgbImage(const std::string& path, RgbImage* image, std::string* error) {
+  if (IsTiff(path)) return ReadTiff(path, 3, image, error);
+  return ReadPng(path, PNG_FORMAT_RGB, 3, image, error);
+}
+
+bool WriteDepthPng(const std::string& path, const DepthImage& image, std::string* error) {
+  return WritePng(path, PNG_FORMAT_LINEAR_Y, image, error);
+}
+
+bool WriteRgbPng(const std::string& path, const RgbImage& image, std::string* error) {
+  return WritePng(path, PNG_FORMAT_RGB, image, error);
+}
+
+bool ReadIntrinsicsFile(const std::string& path, IntrinsicsFile* k, std::string* error) {
+  std::ifstream in(path);
+  if (!in) return Fail(error, path, "cannot open intrinsics file");
+  std::map<std::string, double> values;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const auto colon = line.find(':');
+    std::istringstream key_in(line.substr(0, colon)), value_in(
+        colon == std::string::npos ? "" : line.substr(colon + 1));
+    std::string key, rest;
+    double value = 0;
+    key_in >> key;
+    if (colon == std::string::npos || !(value_in >> value) || (value_in >> rest) ||
+        !std::isfinite(value))
+      return Fail(error, path, "line " + std::to_string(number) + ": expected 'key: number'");
+    static const char* kKeys[] = {"fx", "fy", "cx", "cy", "width", "height"};
+    if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys))
+      return Fail(error, path, "line " + std::to_string(number) + ": unknown key '" + key + "'");
+    values[key] = value;
+  }
+  for (const char* key : {"fx", "fy", "cx", "cy", "width", "height"})
+    if (!values.count(key)) return Fail(error, path, std::string("missing key '") + key + "'");
+  k->fx = values["fx"];
+  k->fy = values["fy"];
+  k->cx = values["cx"];
+  k->cy = values["cy"];
+  k->width = static_cast<int>(values["width"]);
+  k->height = static_cast<int>(values["height"]);
+  if (!(k->fx > 0 && k->fy > 0 && k->width > 0 && k->height > 0))
+    return Fail(error, path, "fx, fy, width and height must be > 0");
+  return true;
+}
+
+bool WriteIntrinsicsFile(const std::string& path, const IntrinsicsFile& k, std::string* error) {
+  std::ofstream out(path);
+  out.precision(10);
+  out << "# pinhole intrinsics of the depth images in this folder (pixels)\n"
+      << "fx: " << k.fx << "\nfy: " << k.fy << "\ncx: " << k.cx << "\ncy: " << k.cy
+      << "\nwidth: " << k.width << "\nheight: " << k.height << "\n";
+  if (!out) return Fail(error, path, "cannot write intrinsics file");
+  return true;
+}
+
+}  // namespace saccade

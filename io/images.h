@@ -1,0 +1,38 @@
+// Depth and colour images on disk: 16-bit PNG/TIFF depth in millimetres, 8-bit RGB PNG/TIFF,
+// and the intrinsics file beside them. No PCL here, so the OpenNI2 driver can use it too.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace saccade {
+
+/// A row-major image of `channels` samples per pixel.
+template <typename T>
+struct Image {
+  int width = 0, height = 0, channels = 1;
+  std::vector<T> data;
+};
+using DepthImage = Image<std::uint16_t>;  // millimetres, 0 = no return
+using RgbImage = Image<std::uint8_t>;     // 3 channels
+
+/// Reads a single-channel 16-bit PNG or TIFF (chosen by extension). False with `error` =
+/// "PATH: reason" otherwise.
+bool ReadDepthImage(const std::string& path, DepthImage* image, std::string* error);
+/// Reads an 8-bit RGB or RGBA PNG or TIFF as RGB.
+bool ReadRgbImage(const std::string& path, RgbImage* image, std::string* error);
+bool WriteDepthPng(const std::string& path, const DepthImage& image, std::string* error);
+bool WriteRgbPng(const std::string& path, const RgbImage& image, std::string* error);
+
+/// Pinhole intrinsics as written beside depth images: one "key: value" per line for fx, fy,
+/// cx, cy (pixels), width and height. Plain numbers, so the file is also valid YAML.
+struct IntrinsicsFile {
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  int width = 0, height = 0;
+};
+bool ReadIntrinsicsFile(const std::string& path, IntrinsicsFile* intrinsics, std::string* error);
+bool WriteIntrinsicsFile(const std::string& path, const IntrinsicsFile& intrinsics,
+                         std::string* error);
+
+}  // namespace saccade

@@ -1,0 +1,412 @@
+#include "io/openni2_source.h"
+
+#include "io/mailbox.h"
+
+#include <OpenNI.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace saccade {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+bool Fail(std::string* error, const std::string& message) {
+  if (error) *error = message;
+  return false;
+}
+
+std::string LastOpenNIError() {
+  const char* e = openni::OpenNI::getExtendedError();
+  std::string s = e && *e ? e : "no detail from libOpenNI2";
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  for (char& c : s)
+    if (c == '\n') c = ' ';
+  return s;
+}
+
+// libOpenNI2 is initialized once per process and stays up: its drivers own threads that
+// outlive any one source.
+bool InitializeOpenNI(std::string* error) {
+  static std::mutex mutex;
+  static bool initialized = false;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (initialized) return true;
+  if (openni::OpenNI::initialize() != openni::STATUS_OK)
+    return Fail(error, "libOpenNI2: initialization failed: " + LastOpenNIError());
+  initialized = true;
+  return true;
+}
+
+// A pinhole model from the stream's fields of view, with the centre at the middle of the
+// image as PCL's OpenNI2 grabber assumes.
+CameraIntrinsics IntrinsicsOf(openni::VideoStream& stream) {
+  const openni::VideoMode mode = stream.getVideoMode();
+  CameraIntrinsics k;
+  k.width = mode.getResolutionX();
+  k.height = mode.getResolutionY();
+  k.fx = k.width / (2.0 * std::tan(stream.getHorizontalFieldOfView() / 2.0));
+  k.fy = k.height / (2.0 * std::tan(stream.getVerticalFieldOfView() / 2.0));
+  k.cx = (k.width - 1) / 2.0;
+  k.cy = (k.height - 1) / 2.0;
+  return k;
+}
+
+bool ToFrame(const openni::VideoFrameRef& ref, const CameraIntrinsics& k, Frame* frame,
+             std::string* error) {
+  const auto format = ref.getVideoMode().getPixelFormat();
+  if (format != openni::PIXEL_FORMAT_DEPTH_1_MM && format != openni::PIXEL_FORMAT_DEPTH_100_UM)
+    return Fail(error, "OpenNI2 stream: not a depth format (" + std::to_string(format) + ")");
+  if (ref.getWidth() != k.width || ref.getHeight() != k.height || ref.getCropOriginX() != 0)
+    return Fail(error, "OpenNI2 stream: frame size differs from the stream's video mode");
+  std::vector<std::uint16_t> mm(static_cast<std::size_t>(k.width) * k.height);
+  const auto* bytes = static_cast<const std::uint8_t*>(ref.getData());
+  for (int v = 0; v < k.height; ++v) {
+    const auto* row = reinterpret_cast<const std::uint16_t*>(bytes + v * ref.getStrideInBytes());
+    for (int u = 0; u < k.width; ++u)
+      mm[static_cast<std::size_t>(v) * k.width + u] =
+          format == openni::PIXEL_FORMAT_DEPTH_100_UM ? row[u] / 10 : row[u];
+  }
+  frame->intrinsics = k;
+  frame->cloud = std::make_shared<const Cloud>(DepthToCloud(mm.data(), nullptr, k));
+  frame->capture_utime = static_cast<std::int64_t>(ref.getTimestamp());
+  return true;
+}
+
+// What the device and playback sources share: one depth stream, a recorder, the mailbox that
+// OpenNI2's callback thread fills, and the counters.
+class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameListener {
+ public:
+  ~StreamSource() override {
+    Stop();
+    CloseStream();
+  }
+
+  Status Next(Frame* frame, std::string* error) override {
+    auto item = mailbox_.Take();
+    if (!item) return Status::kEnd;
+    if (!item->ok) {
+      *error = item->error;
+      return Status::kError;
+    }
+    *frame = std::move(item->frame);
+    return Status::kFrame;
+  }
+
+  void Stop() override {
+    stopped_ = true;
+    mailbox_.CloseAndClear();
+    wake_.notify_all();
+  }
+
+  SourceStats Stats() const override {
+    SourceStats s;
+    s.produced = produced_;
+    s.dropped = mailbox_.dropped();
+    s.reconnects = reconnects_;
+    std::lock_guard<std::mutex> lock(mutex_);
+    s.state = state_;
+    return s;
+  }
+
+  bool StartRecording(const std::string& path, std::string* error) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (recorder_.isValid()) return Fail(error, path + ": already recording");
+    if (recorder_.create(path.c_str()) != openni::STATUS_OK ||
+        recorder_.attach(depth_) != openni::STATUS_OK || recorder_.start() != openni::STATUS_OK) {
+      recorder_.destroy();
+      return Fail(error, path + ": cannot record: " + LastOpenNIError());
+    }
+    return true;
+  }
+
+  void StopRecording() override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!recorder_.isValid()) return;
+    recorder_.stop();
+    recorder_.destroy();
+  }
+
+ protected:
+  struct Item {
+    bool ok = true;
+    Frame frame;
+    std::string error;
+  };
+
+  // Opens `uri` and its depth stream; the listener starts delivering frames.
+  bool OpenStream(const std::string& uri, std::string* error) {
+    if (device_.open(uri.c_str()) != openni::STATUS_OK)
+      return Fail(error, uri + ": cannot open: " + LastOpenNIError());
+    if (!device_.hasSensor(openni::SENSOR_DEPTH) ||
+        depth_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
+      device_.close();
+      return Fail(error, uri + ": no depth stream: " + LastOpenNIError());
+    }
+    intrinsics_ = IntrinsicsOf(depth_);
+    return true;
+  }
+
+  bool StartStream(std::string* error) {
+    depth_.addNewFrameListener(this);
+    if (depth_.start() != openni::STATUS_OK) {
+      depth_.removeNewFrameListener(this);
+      return Fail(error, "cannot start the depth stream: " + LastOpenNIError());
+    }
+    return true;
+  }
+
+  void CloseStream() {
+    StopRecording();
+    if (depth_.isValid()) {
+      depth_.removeNewFrameListener(this);
+      depth_.stop();
+      depth_.destroy();
+    }
+    if (device_.isValid()) device_.close();
+  }
+
+  // Reads one frame of the stream into an Item with the next sequence number.
+  Item ReadOne() {
+    Item item;
+    openni::VideoFrameRef ref;
+    if (depth_.readFrame(&ref) != openni::STATUS_OK) {
+      item.ok = false;
+      item.error = "OpenNI2 stream: cannot read a frame: " + LastOpenNIError();
+      return item;
+    }
+    last_index_ = ref.getFrameIndex();
+    item.ok = ToFrame(ref, intrinsics_, &item.frame, &item.error);
+    item.frame.sequence = sequence_++;
+    ++produced_;
+    return item;
+  }
+
+  void SetState(const std::string& state) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    state_ = state;
+  }
+
+  openni::Device device_;
+  openni::VideoStream depth_;
+  openni::Recorder recorder_;
+  CameraIntrinsics intrinsics_;
+  LatestMailbox<Item> mailbox_;
+  std::atomic<bool> stopped_{false};
+  std::atomic<std::uint64_t> produced_{0}, reconnects_{0};
+  std::uint64_t sequence_ = 0;
+  int last_index_ = 0;  // OpenNI2's own frame index of the last frame read
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::string state_ = "streaming";
+};
+
+class DeviceSource : public StreamSource {
+ public:
+  bool Open(const std::string& uri, std::string* error) {
+    uri_ = uri;
+    if (!OpenStream(uri, error) || !StartStream(error)) return false;
+    last_frame_ = Clock::now().time_since_epoch().count();
+    watchdog_ = std::thread([this] { Watch(); });
+    return true;
+  }
+  ~DeviceSource() override {
+    Stop();
+    if (watchdog_.joinable()) watchdog_.join();
+    CloseStream();  // here, while onNewFrame still resolves to this class
+  }
+
+  void onNewFrame(openni::VideoStream&) override {
+    last_frame_ = Clock::now().time_since_epoch().count();
+    mailbox_.Put(ReadOne());
+  }
+  bool Live() const override { return true; }
+  std::string Describe() const override { return "openni2://" + uri_; }
+
+ private:
+  // Reopens the device when frames stop: unplugged, powered down, or a stalled driver.
+  void Watch() {
+    const auto stall = std::chrono::seconds(2);
+    std::unique_lock<std::mutex> lock(watch_mutex_);
+    while (!stopped_) {
+      wake_.wait_for(lock, std::chrono::milliseconds(250));
+      if (stopped_) break;
+      const Clock::time_point last{Clock::duration(last_frame_.load())};
+      if (Clock::now() - last < stall) continue;
+      SetState("reconnecting: no frame for 2 s");
+      CloseStream();
+      auto backoff = std::chrono::milliseconds(500);
+      while (!stopped_) {
+        std::string error;
+        if (OpenStream(uri_, &error) && StartStream(&error)) {
+          ++reconnects_;
+          last_frame_ = Clock::now().time_since_epoch().count();
+          SetState("streaming");
+          break;
+        }
+        CloseStream();
+        SetState("reconnecting: " + error);
+        wake_.wait_for(lock, backoff);
+        backoff = std::min(backoff * 2, std::chrono::milliseconds(8000));
+      }
+    }
+  }
+
+  std::string uri_;
+  std::atomic<Clock::rep> last_frame_{0};
+  std::mutex watch_mutex_;
+  std::thread watchdog_;
+};
+
+class PlaybackSource : public StreamSource {
+ public:
+  bool Open(const std::string& path, const OniPlaybackOptions& options, std::string* error) {
+    path_ = path;
+    options_ = options;
+    if (!OpenStream(path, error)) return false;
+    openni::PlaybackControl* control = device_.getPlaybackControl();
+    if (!control) return Fail(error, path + ": not a recording");
+    using Mode = OniPlaybackOptions::Mode;
+    const float speed = options.mode == Mode::kRealtime ? 1.0f
+                        : options.mode == Mode::kFast   ? 0.0f
+                                                        : -1.0f;  // manual: one per read
+    control->setSpeed(speed);
+    control->setRepeatEnabled(options.loop);
+    frames_ = control->getNumberOfFrames(depth_);
+    if (frames_ <= 0) return Fail(error, path + ": the recording has no depth frame");
+    if (options.mode == Mode::kStep) {
+      if (depth_.start() != openni::STATUS_OK)
+        return Fail(error, path + ": cannot start playback: " + LastOpenNIError());
+      return true;
+    }
+    return StartStream(error);
+  }
+
+  ~PlaybackSource() override {
+    Stop();
+    CloseStream();
+  }
+
+  Status Next(Frame* frame, std::string* error) override {
+    if (options_.mode != OniPlaybackOptions::Mode::kStep) return StreamSource::Next(frame, error);
+    if (stopped_ || (!options_.loop && read_ >= frames_)) {
+      SetState("ended");
+      return Status::kEnd;
+    }
+    // In manual playback the file driver reads the next frame when asked through
+    // waitForAnyStream (its manual trigger); a timeout keeps Stop() responsive.
+    for (;;) {
+      openni::VideoStream* streams[] = {&depth_};
+      int ready = -1;
+      const auto rc = openni::OpenNI::waitForAnyStream(streams, 1, &ready, 500);
+      if (rc == openni::STATUS_OK) break;
+      if (stopped_) return Status::kEnd;
+      if (rc != openni::STATUS_TIME_OUT) {
+        *error = path_ + ": playback failed: " + LastOpenNIError();
+        return Status::kError;
+      }
+    }
+    Item item = ReadOne();
+    ++read_;
+    if (!item.ok) {
+      *error = path_ + ": " + item.error;
+      return Status::kError;
+    }
+    *frame = std::move(item.frame);
+    return Status::kFrame;
+  }
+
+  void onNewFrame(openni::VideoStream&) override {
+    if (stopped_) return;
+    mailbox_.Put(ReadOne());
+    if (!options_.loop && last_index_ >= frames_) {  // the recording's last frame
+      SetState("ended");
+      mailbox_.Close();
+    }
+  }
+  bool Live() const override { return options_.mode != OniPlaybackOptions::Mode::kStep; }
+  std::string Describe() const override {
+    return path_ + " (" + std::to_string(frames_) + " frames)";
+  }
+
+ private:
+  std::string path_;
+  OniPlaybackOptions options_;
+  int frames_ = 0;
+  int read_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device, std::string* error) {
+  const std::string spec = "openni2://" + device;
+  if (!InitializeOpenNI(error)) return nullptr;
+  openni::Array<openni::DeviceInfo> list;
+  openni::OpenNI::enumerateDevices(&list);
+  std::vector<std::string> uris;
+  for (int i = 0; i < list.getSize(); ++i) uris.push_back(list[i].getUri());
+  if (uris.empty()) {
+    Fail(error, spec + ": no OpenNI2 device found (libOpenNI2 and its drivers list none; is a "
+                       "sensor plugged in and readable by this user?)");
+    return nullptr;
+  }
+  std::string uri;
+  if (device.empty()) {
+    uri = uris.front();
+  } else if (device[0] == '#') {
+    char* end = nullptr;
+    const long n = std::strtol(device.c_str() + 1, &end, 10);
+    if (device.size() < 2 || *end != '\0' || n < 0 || n >= static_cast<long>(uris.size())) {
+      Fail(error, spec + ": no such device; " + std::to_string(uris.size()) +
+                      " found (openni2://#0 is the first)");
+      return nullptr;
+    }
+    uri = uris[static_cast<std::size_t>(n)];
+  } else {
+    for (const auto& u : uris)
+      if (u == device) uri = u;
+    for (std::size_t i = 0; uri.empty() && i < uris.size(); ++i) {  // a serial number
+      openni::Device d;
+      if (d.open(uris[i].c_str()) != openni::STATUS_OK) continue;
+      char serial[128] = {};
+      int size = sizeof(serial);
+      if (d.getProperty(ONI_DEVICE_PROPERTY_SERIAL_NUMBER, serial, &size) == openni::STATUS_OK &&
+          device == serial)
+        uri = uris[i];
+      d.close();
+    }
+    if (uri.empty()) {
+      std::string all;
+      for (const auto& u : uris) all += (all.empty() ? "" : ", ") + u;
+      Fail(error, spec + ": no device with that URI or serial number (found: " + all + ")");
+      return nullptr;
+    }
+  }
+  auto source = std::make_unique<DeviceSource>();
+  if (!source->Open(uri, error)) return nullptr;
+  return source;
+}
+
+std::unique_ptr<OpenNI2Source> OpenOniPlayback(const std::string& path,
+                                               const OniPlaybackOptions& options,
+                                               std::string* error) {
+  if (!InitializeOpenNI(error)) return nullptr;
+  if (FILE* f = std::fopen(path.c_str(), "rb")) {
+    std::fclose(f);
+  } else {
+    Fail(error, path + ": cannot open recording");
+    return nullptr;
+  }
+  auto source = std::make_unique<PlaybackSource>();
+  if (!source->Open(path, options, error)) return nullptr;
+  return source;
+}
+
+}  // namespace saccade

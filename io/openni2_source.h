@@ -1,0 +1,37 @@
+// OpenNI2 frame sources: live devices and .oni playback, through the real libOpenNI2.
+#pragma once
+
+#include "io/frame_source.h"
+
+#include <memory>
+#include <string>
+
+namespace saccade {
+
+/// A FrameSource backed by an openni::VideoStream, which can also be recorded.
+class OpenNI2Source : public FrameSource {
+ public:
+  /// Starts writing every frame the stream delivers to an .oni file (openni::Recorder) until
+  /// the source is destroyed or StopRecording(). False with `error` when it cannot.
+  virtual bool StartRecording(const std::string& oni_path, std::string* error) = 0;
+  virtual void StopRecording() = 0;
+};
+
+/// `device`: "" for the first device, "#N" for the N-th (0-based), or a URI or serial number.
+/// Live: frames go to a latest-frame mailbox from OpenNI2's callback thread; when no frame has
+/// come for 2 s the device is closed and reopened with back-off (0.5 s doubling to 8 s).
+std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device, std::string* error);
+
+struct OniPlaybackOptions {
+  enum class Mode {
+    kRealtime,  // at the recorded pace, live: frames the consumer misses are dropped, counted
+    kFast,      // as fast as libOpenNI2 reads them, live
+    kStep,      // one frame per Next(), none lost
+  } mode = Mode::kStep;
+  bool loop = false;
+};
+std::unique_ptr<OpenNI2Source> OpenOniPlayback(const std::string& path,
+                                               const OniPlaybackOptions& options,
+                                               std::string* error);
+
+}  // namespace saccade

@@ -1,0 +1,28 @@
+// truth.csv: the ground truth of a recorded sequence, one row per frame file, in file order.
+#pragma once
+
+#include "core/scenario.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace saccade {
+
+constexpr char kTruthFileName[] = "truth.csv";
+
+struct TruthRow {
+  std::uint64_t sequence = 0;
+  std::int64_t capture_utime = 0;
+  GroundTruth truth;
+};
+
+/// The header line (without newline) and one row: sequence, capture_utime, target pose as
+/// tx ty tz (m) and qw qx qy qz, centroid cx cy cz (m), visible_fraction.
+std::string TruthCsvHeader();
+std::string TruthCsvRow(const TruthRow& row);
+
+/// False with `error` = "PATH: line N: reason" on a malformed file.
+bool ReadTruthFile(const std::string& path, std::vector<TruthRow>* rows, std::string* error);
+
+}  // namespace saccade
