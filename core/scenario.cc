@@ -132,10 +132,10 @@ ScenarioFrame RenderScenarioFrame(const Scenario& sc, int index, const CameraInt
   if (sc.clutter_grows) shown = std::min<std::size_t>(index, sc.clutter.size());
   for (std::size_t i = 0; i < shown; ++i) {
     const auto& c = sc.clutter[i];
-    objects.push_back({c.shape,
-                       X_CW * PoseOnTable(c.xz_m.x(), c.xz_m.y(), c.yaw_rad, sc.table_height_m,
-                                          c.bottom_y_m),
-                       static_cast<std::uint32_t>(i + 2)});
+    objects.push_back(
+        {c.shape,
+         X_CW * PoseOnTable(c.xz_m.x(), c.xz_m.y(), c.yaw_rad, sc.table_height_m, c.bottom_y_m),
+         static_cast<std::uint32_t>(i + 2)});
   }
   out.truth.target_pose = X_CO;
   out.truth.centroid_m = X_CO * ShapeCentre(sc.target);
@@ -143,14 +143,13 @@ ScenarioFrame RenderScenarioFrame(const Scenario& sc, int index, const CameraInt
     // The screen stands on the table 35% of the way from the camera to the target, facing it.
     const Eigen::Vector3f c = out.truth.centroid_m * 0.65f;
     const float facing = std::atan2(c.x(), c.z());
-    objects.push_back({ScreenShape(), PoseOnTable(c.x(), c.z(), facing, sc.table_height_m, 0.2f),
-                       1000});
+    objects.push_back(
+        {ScreenShape(), PoseOnTable(c.x(), c.z(), facing, sc.table_height_m, 0.2f), 1000});
   }
   // The same seed per frame for the scene and the target alone: their noise draws match.
   const std::uint32_t seed = sc.seed * 7919u + static_cast<std::uint32_t>(index);
   out.rendered = RenderScene(objects, sc.table_height_m, k, sc.noise, seed);
-  const RenderedFrame alone =
-      RenderScene({objects.front()}, sc.table_height_m, k, sc.noise, seed);
+  const RenderedFrame alone = RenderScene({objects.front()}, sc.table_height_m, k, sc.noise, seed);
   const auto count = [&](const RenderedFrame& f) {
     return std::count(f.label.begin(), f.label.end(), kTarget);
   };

@@ -25,7 +25,7 @@ struct Trajectory {
   Eigen::Vector2f centre_xz_m = Eigen::Vector2f::Zero();
   float radius_m = 0.0f;
   float period_s = 10.0f;
-  float yaw_rad = 0.0f;        // at t = 0
+  float yaw_rad = 0.0f;         // at t = 0
   float yaw_rate_radps = 0.0f;  // turning while moving
 
   Eigen::Vector2f PositionAt(double t_s) const;

@@ -353,8 +353,7 @@ int RunDemo(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   const RecognitionResult fov = Recognize(*model, scene, query, options, parallel_for);
   SceneQuery plain_query = query;
   plain_query.foveated = false;
-  const RecognitionResult plain =
-      Recognize(*model, scene, plain_query, options, parallel_for);
+  const RecognitionResult plain = Recognize(*model, scene, plain_query, options, parallel_for);
   out << "synthetic Kinect scene (seed " << *seed << "): " << CountFinite(scene)
       << " points, target among " << demo.clutter_objects << " clutter objects; model "
       << demo.model.size() << " points cut from another capture\n";

@@ -60,8 +60,7 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
     }
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
-    if (!openni->StartRecording((std::filesystem::path(dir) / "recording.oni").string(),
-                                &error)) {
+    if (!openni->StartRecording((std::filesystem::path(dir) / "recording.oni").string(), &error)) {
       err << "saccade record: " << error << "\n";
       return kExitFailure;
     }
@@ -79,8 +78,7 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
   while (!frames || taken < *frames) {
     const auto status = source->Next(&frame, &error);
     if (status == FrameSource::Status::kEnd) break;
-    if (status == FrameSource::Status::kError ||
-        (writer && !writer->Write(frame, &error))) {
+    if (status == FrameSource::Status::kError || (writer && !writer->Write(frame, &error))) {
       err << "saccade record: " << error << "\n";
       code = kExitFailure;
       break;

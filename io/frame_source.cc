@@ -28,7 +28,8 @@ bool Fail(std::string* error, const std::string& message) {
 }
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // A finite, indexable sequence of frames (files or a scenario), read on demand.
@@ -146,7 +147,8 @@ class SequenceSource : public FrameSource {
 };
 
 // Files of a folder whose names pass `keep`, in name order.
-std::vector<std::string> ListFiles(const std::string& dir, const std::function<bool(const std::string&)>& keep) {
+std::vector<std::string> ListFiles(const std::string& dir,
+                                   const std::function<bool(const std::string&)>& keep) {
   std::vector<std::string> out;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
@@ -181,7 +183,10 @@ class PcdSequence : public Sequence {
  public:
   PcdSequence(std::vector<std::string> files, std::vector<std::optional<GroundTruth>> truth,
               double rate_hz, std::string dir)
-      : files_(std::move(files)), truth_(std::move(truth)), rate_hz_(rate_hz), dir_(std::move(dir)) {}
+      : files_(std::move(files)),
+        truth_(std::move(truth)),
+        rate_hz_(rate_hz),
+        dir_(std::move(dir)) {}
   std::size_t size() const override { return files_.size(); }
   bool Read(std::size_t i, Frame* frame, std::string* error) const override {
     auto cloud = LoadCloud(files_[i], error);
@@ -283,8 +288,8 @@ bool OptionNumber(const SourceSpec& spec, const std::string& key, double fallbac
   char* end = nullptr;
   *out = std::strtod(it->second.c_str(), &end);
   if (it->second.empty() || *end != '\0' || !std::isfinite(*out) || *out < 0)
-    return Fail(error, "source '" + spec.kind + ":" + spec.target + "': option " + key +
-                           "=" + it->second + " is not a number >= 0");
+    return Fail(error, "source '" + spec.kind + ":" + spec.target + "': option " + key + "=" +
+                           it->second + " is not a number >= 0");
   return true;
 }
 
@@ -306,8 +311,8 @@ bool OnlyOptions(const SourceSpec& spec, std::initializer_list<const char*> allo
                  std::string* error) {
   for (const auto& [key, value] : spec.options) {
     if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
-      return Fail(error, "source '" + spec.kind + ":" + spec.target + "': unknown option '" +
-                             key + "'");
+      return Fail(error,
+                  "source '" + spec.kind + ":" + spec.target + "': unknown option '" + key + "'");
   }
   return true;
 }
@@ -336,8 +341,8 @@ std::unique_ptr<FrameSource> OpenFiles(const SourceSpec& spec, std::string* erro
     auto truth = TruthBeside(spec.target, files.size(), error, &truth_ok);
     if (!truth_ok) return nullptr;
     return std::make_unique<SequenceSource>(
-        std::make_unique<PcdSequence>(std::move(files), std::move(truth), rate, spec.target),
-        rate, loop);
+        std::make_unique<PcdSequence>(std::move(files), std::move(truth), rate, spec.target), rate,
+        loop);
   }
   const auto is_image = [](const std::string& n) {
     return EndsWith(n, ".png") || EndsWith(n, ".tif") || EndsWith(n, ".tiff");
@@ -357,9 +362,8 @@ std::unique_ptr<FrameSource> OpenFiles(const SourceSpec& spec, std::string* erro
     rgb.push_back(fs::exists(partner) ? partner.string() : "");
   }
   const auto it = spec.options.find("intrinsics");
-  const std::string k_path = it != spec.options.end()
-                                 ? it->second
-                                 : (fs::path(spec.target) / "intrinsics.yaml").string();
+  const std::string k_path =
+      it != spec.options.end() ? it->second : (fs::path(spec.target) / "intrinsics.yaml").string();
   IntrinsicsFile kf;
   if (!ReadIntrinsicsFile(k_path, &kf, error)) return nullptr;
   CameraIntrinsics k;
@@ -395,7 +399,8 @@ std::unique_ptr<FrameSource> OpenSynthetic(const SourceSpec& spec, std::string* 
       !OptionBool(spec, "loop", &loop, error))
     return nullptr;
   if (frames < 1 || frames > 1e7 || frames != std::floor(frames) || seed != std::floor(seed)) {
-    Fail(error, "source 'synthetic:" + spec.target + "': frames and seed must be whole numbers, frames >= 1");
+    Fail(error, "source 'synthetic:" + spec.target +
+                    "': frames and seed must be whole numbers, frames >= 1");
     return nullptr;
   }
   scenario.frames = static_cast<int>(frames);

@@ -22,7 +22,8 @@ bool Fail(std::string* error, const std::string& path, const std::string& why) {
 }
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 bool IsTiff(const std::string& path) { return EndsWith(path, ".tif") || EndsWith(path, ".tiff"); }
@@ -79,8 +80,9 @@ bool ReadTiff(const std::string& path, int keep, Image<T>* image, std::string* e
   TIFFGetFieldDefaulted(tif.get(), TIFFTAG_BITSPERSAMPLE, &bits);
   TIFFGetFieldDefaulted(tif.get(), TIFFTAG_SAMPLESPERPIXEL, &spp);
   if (bits != 8 * sizeof(T))
-    return Fail(error, path, "expected " + std::to_string(8 * sizeof(T)) + "-bit samples, found " +
-                                 std::to_string(bits));
+    return Fail(error, path,
+                "expected " + std::to_string(8 * sizeof(T)) + "-bit samples, found " +
+                    std::to_string(bits));
   if (spp < keep) return Fail(error, path, "expected " + std::to_string(keep) + " channel(s)");
   if (TIFFIsTiled(tif.get())) return Fail(error, path, "tiled TIFF is not supported");
   image->width = static_cast<int>(w);
@@ -130,8 +132,8 @@ bool ReadIntrinsicsFile(const std::string& path, IntrinsicsFile* k, std::string*
     if (hash != std::string::npos) line.erase(hash);
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     const auto colon = line.find(':');
-    std::istringstream key_in(line.substr(0, colon)), value_in(
-        colon == std::string::npos ? "" : line.substr(colon + 1));
+    std::istringstream key_in(line.substr(0, colon)),
+        value_in(colon == std::string::npos ? "" : line.substr(colon + 1));
     std::string key, rest;
     double value = 0;
     key_in >> key;

@@ -353,8 +353,9 @@ std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device, std:
   std::vector<std::string> uris;
   for (int i = 0; i < list.getSize(); ++i) uris.push_back(list[i].getUri());
   if (uris.empty()) {
-    Fail(error, spec + ": no OpenNI2 device found (libOpenNI2 and its drivers list none; is a "
-                       "sensor plugged in and readable by this user?)");
+    Fail(error, spec +
+                    ": no OpenNI2 device found (libOpenNI2 and its drivers list none; is a "
+                    "sensor plugged in and readable by this user?)");
     return nullptr;
   }
   std::string uri;

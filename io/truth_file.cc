@@ -16,9 +16,9 @@ std::string TruthCsvRow(const TruthRow& row) {
   const Eigen::Vector3f& c = row.truth.centroid_m;
   std::ostringstream out;
   out.precision(9);
-  out << row.sequence << ',' << row.capture_utime << ',' << t.x() << ',' << t.y() << ','
-      << t.z() << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << c.x()
-      << ',' << c.y() << ',' << c.z() << ',' << row.truth.visible_fraction;
+  out << row.sequence << ',' << row.capture_utime << ',' << t.x() << ',' << t.y() << ',' << t.z()
+      << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << c.x() << ','
+      << c.y() << ',' << c.z() << ',' << row.truth.visible_fraction;
   return out.str();
 }
 

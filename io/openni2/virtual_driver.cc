@@ -16,13 +16,13 @@
 
 #include "io/images.h"
 
+#include <dirent.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <dirent.h>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -40,13 +40,14 @@ struct Recording {
 
 bool LoadRecording(const std::string& dir, Recording* out) {
   std::string error;
-  if (!saccade::ReadIntrinsicsFile(dir + "/intrinsics.yaml", &out->intrinsics, &error)) return false;
+  if (!saccade::ReadIntrinsicsFile(dir + "/intrinsics.yaml", &out->intrinsics, &error))
+    return false;
   std::vector<std::string> names;
   if (DIR* d = opendir(dir.c_str())) {
     while (dirent* e = readdir(d)) {
       const std::string n = e->d_name;
-      const bool image = n.size() > 4 && (n.rfind(".png") == n.size() - 4 ||
-                                          n.rfind(".tiff") == n.size() - 5);
+      const bool image =
+          n.size() > 4 && (n.rfind(".png") == n.size() - 4 || n.rfind(".tiff") == n.size() - 5);
       if (image && n.find("depth") != std::string::npos) names.push_back(n);
     }
     closedir(d);
@@ -127,12 +128,13 @@ class DepthStream : public oni::driver::StreamBase {
                    ONI_STREAM_PROPERTY_MIN_VALUE, ONI_STREAM_PROPERTY_STRIDE,
                    ONI_STREAM_PROPERTY_MIRRORING, ONI_STREAM_PROPERTY_CROPPING}) {
       alignas(8) unsigned char value[64];
-      int size = id == ONI_STREAM_PROPERTY_VIDEO_MODE ? sizeof(OniVideoMode)
-                 : id == ONI_STREAM_PROPERTY_HORIZONTAL_FOV || id == ONI_STREAM_PROPERTY_VERTICAL_FOV
-                     ? sizeof(float)
-                 : id == ONI_STREAM_PROPERTY_MIRRORING  ? sizeof(OniBool)
-                 : id == ONI_STREAM_PROPERTY_CROPPING   ? sizeof(OniCropping)
-                                                       : sizeof(int);
+      int size =
+          id == ONI_STREAM_PROPERTY_VIDEO_MODE ? sizeof(OniVideoMode)
+          : id == ONI_STREAM_PROPERTY_HORIZONTAL_FOV || id == ONI_STREAM_PROPERTY_VERTICAL_FOV
+              ? sizeof(float)
+          : id == ONI_STREAM_PROPERTY_MIRRORING ? sizeof(OniBool)
+          : id == ONI_STREAM_PROPERTY_CROPPING  ? sizeof(OniCropping)
+                                                : sizeof(int);
       if (getProperty(id, value, &size) == ONI_STATUS_OK) raisePropertyChanged(id, value, size);
     }
   }
@@ -252,7 +254,7 @@ class VirtualDriver : public oni::driver::DriverBase {
   void shutdown() override {}
   OniStatus tryDevice(const char* uri) override {
     return std::strncmp(uri, kUriPrefix, std::strlen(kUriPrefix)) == 0 ? ONI_STATUS_OK
-                                                                        : ONI_STATUS_ERROR;
+                                                                       : ONI_STATUS_ERROR;
   }
 
  private:

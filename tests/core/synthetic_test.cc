@@ -1,7 +1,7 @@
 // The synthetic Kinect: deterministic frames with the Kinect's geometry and noise, and a
 // target that is found from a model cut out of another capture.
-#include "core/recognition.h"
 #include "core/synthetic.h"
+#include "core/recognition.h"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 namespace {
@@ -17,8 +19,8 @@ struct CliRun {
   std::string out;  // stdout and stderr together
 };
 
-CliRun Saccade(const std::string& args) {
-  const std::string cmd = std::string(SACCADE_BINARY) + " " + args + " 2>&1";
+CliRun Saccade(const std::string& args, const std::string& env_prefix = "") {
+  const std::string cmd = env_prefix + std::string(SACCADE_BINARY) + " " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   CliRun r{-1, ""};
   std::array<char, 4096> buf{};
@@ -109,6 +111,36 @@ TEST(Cli, DemoRejectsABadSeed) {
   const CliRun r = Saccade("demo --seed -3");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(Lines(r.out), 1) << r.out;
+}
+
+TEST(Cli, RecordWritesDepthImagesIntrinsicsAndTruth) {
+  const std::string dir = ::testing::TempDir() + "cli_record";
+  std::system(("rm -rf " + dir).c_str());
+  const CliRun r = Saccade("record --source 'synthetic:occluded?rate=0&frames=3' --out " + dir +
+                           " --format depth");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("recorded 3 frame(s)"), std::string::npos) << r.out;
+  for (const char* name :
+       {"depth_000000.png", "depth_000002.png", "rgb_000002.png", "intrinsics.yaml", "truth.csv"})
+    EXPECT_TRUE(std::ifstream(dir + "/" + name).good()) << name;
+  std::ifstream truth(dir + "/truth.csv");
+  EXPECT_EQ(std::count(std::istreambuf_iterator<char>(truth), {}, '\n'), 4);
+}
+
+TEST(Cli, RecordOniNeedsAnOpenNI2Source) {
+  const CliRun r = Saccade("record --source synthetic:static --out /tmp/x --format oni");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+}
+
+TEST(Cli, MissingOpenNI2DeviceIsOneLineAndExitOne) {
+  // The real libOpenNI2 with its drivers, and no device: the virtual device is not configured.
+  const CliRun r = Saccade("record --source openni2:// --out /tmp/x",
+                           std::string("env -u SACCADE_VIRTUAL_DEVICE LD_LIBRARY_PATH=") +
+                               SACCADE_OPENNI2_RUNTIME + " ");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("openni2://: no OpenNI2 device found"), std::string::npos) << r.out;
 }
 
 }  // namespace
