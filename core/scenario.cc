@@ -33,7 +33,7 @@ std::vector<Scenario::Clutter> DemoClutter() {
   return {
       {Shape{{Part::Box({0, 0, 0}, {0.08f, 0.06f, 0.08f})}}, {-0.3f, 1.25f}, 0.3f, 0.06f},
       {Shape{{Part::Sphere({0, 0, 0}, 0.06f)}}, {0.35f, 1.3f}, 0.0f, 0.06f},
-      {Shape{{Part::Box({0, 0, 0}, {0.035f, 0.09f, 0.035f})}}, {-0.15f, 0.8f}, 0.7f, 0.09f},
+      {Shape{{Part::Box({0, 0, 0}, {0.035f, 0.09f, 0.035f})}}, {-0.4f, 0.8f}, 0.7f, 0.09f},
   };
 }
 

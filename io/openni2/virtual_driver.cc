@@ -10,6 +10,8 @@
 // (*depth*.png or .tiff, millimetres) with an intrinsics.yaml, as `saccade record --format
 // depth` writes. Frames play in name order, looping, at SACCADE_VIRTUAL_DEVICE_FPS (default
 // 30). Frame n (from 1) shows image (n - 1) mod count and has timestamp n * 1e6 / fps us.
+// SACCADE_VIRTUAL_DEVICE_STALL_AFTER=N makes each opened stream fall silent after N frames,
+// as an unplugged camera does, so that reconnection can be tested.
 #define XN_NEW(type, arg) new type(arg)
 #define XN_DELETE(p) delete (p)
 #include <Driver/OniDriverAPI.h>
@@ -36,6 +38,7 @@ struct Recording {
   std::vector<saccade::DepthImage> frames;
   saccade::IntrinsicsFile intrinsics;
   int fps = 30;
+  int stall_after = 0;  // > 0: the stream goes silent after this many frames (an unplug)
 };
 
 bool LoadRecording(const std::string& dir, Recording* out) {
@@ -61,6 +64,8 @@ bool LoadRecording(const std::string& dir, Recording* out) {
     out->frames.push_back(std::move(image));
   }
   if (const char* fps = std::getenv("SACCADE_VIRTUAL_DEVICE_FPS")) out->fps = std::atoi(fps);
+  if (const char* stall = std::getenv("SACCADE_VIRTUAL_DEVICE_STALL_AFTER"))
+    out->stall_after = std::atoi(stall);
   return !out->frames.empty() && out->fps > 0;
 }
 
@@ -167,6 +172,7 @@ class DepthStream : public oni::driver::StreamBase {
     for (int index = 1; running_; ++index) {
       due += period;
       std::this_thread::sleep_until(due);  // the camera's own frame clock
+      if (recording_->stall_after > 0 && index > recording_->stall_after) continue;
       const auto& image = recording_->frames[(index - 1) % recording_->frames.size()];
       OniFrame* frame = getServices().acquireFrame();
       if (!frame) continue;

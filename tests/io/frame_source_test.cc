@@ -136,6 +136,22 @@ TEST(Scenarios, TrajectoriesAndVisibility) {
   }
 }
 
+TEST(Scenarios, YamlFileStartsFromAPresetAndIsStrict) {
+  const std::string path = ::testing::TempDir() + "fast_linear.yaml";
+  std::ofstream(path) << "preset: linear\nname: fast\nframes: 3\n"
+                         "target_motion:\n  velocity_xz_mps: [0.3, 0]\nnoise:\n  enabled: false\n";
+  const auto frames = Open("synthetic:" + path + "?rate=0");
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_NEAR(frames[2].truth->centroid_m.x() - frames[0].truth->centroid_m.x(), 0.3f * 2 / 30,
+              1e-4);
+  const std::string bad = ::testing::TempDir() + "bad_scenario.yaml";
+  std::ofstream(bad) << "preset: linear\ntarget_motion:\n  speed: 3\n";
+  const std::string error = OpenError("synthetic:" + bad);
+  EXPECT_NE(error.find("bad_scenario.yaml: key 'target_motion.speed': unknown key"),
+            std::string::npos)
+      << error;
+}
+
 TEST(Scenarios, PaperProtocolClutterGrowsAroundAVisibleBall) {
   auto protocol = ScenarioPreset("paper-protocol");
   ASSERT_TRUE(protocol);

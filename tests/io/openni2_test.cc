@@ -128,5 +128,21 @@ TEST_F(OpenNI2Test, RecordedOniPlaysBackFrameByFrame) {
   EXPECT_EQ(playback->Next(&f, &error), FrameSource::Status::kEnd);
 }
 
+TEST_F(OpenNI2Test, ASilentDeviceIsReopenedAndFramesResume) {
+  setenv("SACCADE_VIRTUAL_DEVICE_STALL_AFTER", "3", 1);
+  std::string error;
+  auto source = OpenSource("openni2://", &error);
+  unsetenv("SACCADE_VIRTUAL_DEVICE_STALL_AFTER");  // the reopened device streams on
+  ASSERT_TRUE(source) << error;
+  Frame f;
+  // At most three frames come before the stall; the sixth needs a reopened device.
+  for (int n = 0; n < 6; ++n) {
+    ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
+    ASSERT_GE(ImageOf(f), 0);
+  }
+  EXPECT_EQ(source->Stats().reconnects, 1u);
+  EXPECT_EQ(source->Stats().state, "streaming");
+}
+
 }  // namespace
 }  // namespace saccade
