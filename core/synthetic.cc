@@ -57,6 +57,25 @@ float Intersect(const Shape::Part& p, const Eigen::Vector3f& o, const Eigen::Vec
   return t0;
 }
 
+// True when something lies between the projector and `point` (both in the camera frame).
+bool Shadowed(const std::vector<SceneObject>& objects, const std::vector<Eigen::Isometry3f>& X_OC,
+              float table_height_m, const Eigen::Vector3f& point,
+              const Eigen::Vector3f& projector) {
+  const Eigen::Vector3f to_point = point - projector;
+  const float distance = to_point.norm();
+  const Eigen::Vector3f d = to_point / distance;
+  const float reach = distance - 0.002f;  // the surface itself does not shadow its own point
+  if (d.y() > 1e-6f && table_height_m - projector.y() < reach * d.y()) return true;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const Eigen::Vector3f o = X_OC[i] * projector;
+    const Eigen::Vector3f dl = X_OC[i].linear() * d;
+    Eigen::Vector3f n;
+    for (const auto& part : objects[i].shape.parts)
+      if (Intersect(part, o, dl, &n) < reach) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_height_m,
@@ -110,6 +129,10 @@ RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_h
       if (z < noise.min_range_m || z > noise.max_range_m) continue;
       if (noise.enabled) {
         if (incidence < noise.grazing_cos) continue;
+        if (noise.projector_shadows &&
+            Shadowed(objects, X_OC, table_height_m, best * d,
+                     Eigen::Vector3f(-static_cast<float>(noise.baseline_m), 0, 0)))
+          continue;
         z += noise.sigma_at_1m_m * z * z * n1;
         // Disparity quantization: the Kinect measures disparity in 1/8 pixel steps.
         const double disparity = k.fx * noise.baseline_m / z;

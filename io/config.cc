@@ -112,6 +112,43 @@ std::map<std::string, Setter> TrajectoryKeys(Trajectory* t) {
   };
 }
 
+// clutter: a list replacing the preset's, each item
+//   {kind: box, half_size_m: [x, y, z], xz_m: [x, z], yaw_rad: a}  or
+//   {kind: sphere, radius_m: r, xz_m: [x, z]}
+bool LoadClutter(const YAML::Node& list, const std::string& path,
+                 std::vector<Scenario::Clutter>* clutter, std::string* error) {
+  if (!list.IsSequence()) {
+    *error = path + ": key 'clutter': expected a list of objects";
+    return false;
+  }
+  clutter->clear();
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string name = "clutter[" + std::to_string(i) + "]";
+    std::string kind;
+    Eigen::Vector3f half = Eigen::Vector3f::Constant(0.05f);
+    float radius = 0.05f;
+    Scenario::Clutter c;
+    const std::map<std::string, Setter> keys = {
+        {"kind", Scalar(&kind)},    {"half_size_m", Vector3(&half)}, {"radius_m", Scalar(&radius)},
+        {"xz_m", Vector2(&c.xz_m)}, {"yaw_rad", Scalar(&c.yaw_rad)},
+    };
+    if (!ApplySection(list[i], name, keys, path, error)) return false;
+    if (kind == "box" && (half.array() > 0).all()) {
+      c.shape.parts.push_back(Shape::Part::Box(Eigen::Vector3f::Zero(), half));
+      c.bottom_y_m = half.y();
+    } else if (kind == "sphere" && radius > 0) {
+      c.shape.parts.push_back(Shape::Part::Sphere(Eigen::Vector3f::Zero(), radius));
+      c.bottom_y_m = radius;
+    } else {
+      *error = path + ": key '" + name + "': kind must be box (half_size_m > 0) or sphere " +
+               "(radius_m > 0)";
+      return false;
+    }
+    clutter->push_back(c);
+  }
+  return true;
+}
+
 }  // namespace
 
 bool LoadScenario(const std::string& path, Scenario* scenario, std::string* error) {
@@ -153,6 +190,10 @@ bool LoadScenario(const std::string& path, Scenario* scenario, std::string* erro
   };
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
+    if (key == "clutter") {
+      if (!LoadClutter(kv.second, path, &s.clutter, error)) return false;
+      continue;
+    }
     if (auto section = sections.find(key); section != sections.end()) {
       if (!ApplySection(kv.second, key, section->second, path, error)) return false;
       continue;

@@ -26,7 +26,9 @@ bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, s
 /// A synthetic scenario file: `preset: NAME` (required, the starting point), then any of
 /// name, frames, rate_hz, seed, table_height_m, occluded_from, occluded_frames, and the
 /// sections target_motion / camera_motion (Trajectory fields; kind: static | linear | circular
-/// | leave-return) and noise (KinectNoise fields). Strict as LoadRecognitionConfig.
+/// | leave-return), noise (KinectNoise fields) and clutter (a list that replaces the preset's:
+/// {kind: box, half_size_m: [x, y, z], xz_m: [x, z], yaw_rad} or {kind: sphere, radius_m,
+/// xz_m}). Strict as LoadRecognitionConfig.
 bool LoadScenario(const std::string& path, Scenario* scenario, std::string* error);
 
 }  // namespace saccade

@@ -109,7 +109,7 @@ class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameL
   SourceStats Stats() const override {
     SourceStats s;
     s.produced = produced_;
-    s.dropped = mailbox_.dropped();
+    s.dropped = mailbox_.dropped() + skipped_;
     s.reconnects = reconnects_;
     std::lock_guard<std::mutex> lock(mutex_);
     s.state = state_;
@@ -182,6 +182,9 @@ class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameL
       item.error = "OpenNI2 stream: cannot read a frame: " + LastOpenNIError();
       return item;
     }
+    // Frames libOpenNI2 skipped before reaching us count as dropped too.
+    if (last_index_ > 0 && ref.getFrameIndex() > last_index_ + 1)
+      skipped_ += static_cast<std::uint64_t>(ref.getFrameIndex() - last_index_ - 1);
     last_index_ = ref.getFrameIndex();
     item.ok = ToFrame(ref, intrinsics_, &item.frame, &item.error);
     item.frame.sequence = sequence_++;
@@ -200,7 +203,7 @@ class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameL
   CameraIntrinsics intrinsics_;
   LatestMailbox<Item> mailbox_;
   std::atomic<bool> stopped_{false};
-  std::atomic<std::uint64_t> produced_{0}, reconnects_{0};
+  std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, skipped_{0};
   std::uint64_t sequence_ = 0;
   int last_index_ = 0;  // OpenNI2's own frame index of the last frame read
   mutable std::mutex mutex_;
@@ -278,7 +281,10 @@ class PlaybackSource : public StreamSource {
                         : options.mode == Mode::kFast   ? 0.0f
                                                         : -1.0f;  // manual: one per read
     control->setSpeed(speed);
-    control->setRepeatEnabled(options.loop);
+    // The end of a non-looping recording is detected here by counting frames. The player is
+    // always left repeating: at the end of a file it otherwise spins over its stream list,
+    // racing the destruction of the stream (Debian's libOniFile crashed so under load).
+    control->setRepeatEnabled(true);
     frames_ = control->getNumberOfFrames(depth_);
     if (frames_ <= 0) return Fail(error, path + ": the recording has no depth frame");
     if (options.mode == Mode::kStep) {
@@ -291,6 +297,13 @@ class PlaybackSource : public StreamSource {
 
   ~PlaybackSource() override {
     Stop();
+    if (depth_.isValid()) {
+      depth_.removeNewFrameListener(this);
+      depth_.stop();
+      // libOniFile's player thread walks its stream list every 10 ms without a lock while no
+      // stream runs; give it that beat to leave the walk before the stream is destroyed.
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
     CloseStream();
   }
 
@@ -324,9 +337,15 @@ class PlaybackSource : public StreamSource {
   }
 
   void onNewFrame(openni::VideoStream&) override {
-    if (stopped_) return;
-    mailbox_.Put(ReadOne());
-    if (!options_.loop && last_index_ >= frames_) {  // the recording's last frame
+    if (stopped_ || ended_) return;
+    const int previous = last_index_;
+    Item item = ReadOne();
+    // The player repeats (see Open): a non-looping playback ends at the last frame, or at the
+    // wrap when libOpenNI2 skipped the last frame in fast mode.
+    const bool wrapped = last_index_ < previous;
+    if (!(wrapped && !options_.loop)) mailbox_.Put(std::move(item));
+    if (!options_.loop && (wrapped || last_index_ >= frames_)) {
+      ended_ = true;
       SetState("ended");
       mailbox_.Close();
     }
@@ -341,6 +360,7 @@ class PlaybackSource : public StreamSource {
   OniPlaybackOptions options_;
   int frames_ = 0;
   int read_ = 0;
+  std::atomic<bool> ended_{false};
 };
 
 }  // namespace

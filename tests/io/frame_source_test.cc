@@ -13,13 +13,15 @@
 #include <filesystem>
 #include <fstream>
 
+#include <unistd.h>
+
 namespace saccade {
 namespace {
 
 namespace fs = std::filesystem;
 
 std::string FreshDir(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "saccade_" + name;
+  const std::string dir = ::testing::TempDir() + "saccade_" + name + "_" + std::to_string(getpid());
   fs::remove_all(dir);
   return dir;
 }
