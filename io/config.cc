@@ -44,6 +44,24 @@ Setter Vector2(Eigen::Vector2f* field) {
   };
 }
 
+// Sets `key` from `value` with its setter; `qualified` names it in errors ("section.key").
+bool ApplyKey(const std::map<std::string, Setter>& setters, const std::string& key,
+              const std::string& qualified, const YAML::Node& value, const std::string& path,
+              std::string* error) {
+  auto it = setters.find(key);
+  if (it == setters.end()) {
+    *error = path + ": key '" + qualified + "': unknown key";
+    return false;
+  }
+  try {
+    it->second(value);
+  } catch (const YAML::Exception& e) {
+    *error = path + ": key '" + qualified + "': wrong type (" + e.msg + ")";
+    return false;
+  }
+  return true;
+}
+
 bool ApplySection(const YAML::Node& section, const std::string& name,
                   const std::map<std::string, Setter>& setters, const std::string& path,
                   std::string* error) {
@@ -53,17 +71,7 @@ bool ApplySection(const YAML::Node& section, const std::string& name,
   }
   for (const auto& kv : section) {
     const std::string key = kv.first.as<std::string>();
-    auto it = setters.find(key);
-    if (it == setters.end()) {
-      *error = path + ": key '" + name + "." + key + "': unknown key";
-      return false;
-    }
-    try {
-      it->second(kv.second);
-    } catch (const YAML::Exception& e) {
-      *error = path + ": key '" + name + "." + key + "': wrong type (" + e.msg + ")";
-      return false;
-    }
+    if (!ApplyKey(setters, key, name + "." + key, kv.second, path, error)) return false;
   }
   return true;
 }
@@ -198,17 +206,7 @@ bool LoadScenario(const std::string& path, Scenario* scenario, std::string* erro
       if (!ApplySection(kv.second, key, section->second, path, error)) return false;
       continue;
     }
-    auto it = top.find(key);
-    if (it == top.end()) {
-      *error = path + ": key '" + key + "': unknown key";
-      return false;
-    }
-    try {
-      it->second(kv.second);
-    } catch (const YAML::Exception& e) {
-      *error = path + ": key '" + key + "': wrong type (" + e.msg + ")";
-      return false;
-    }
+    if (!ApplyKey(top, key, key, kv.second, path, error)) return false;
   }
   std::string why;
   if (!s.IsValid(&why)) {
