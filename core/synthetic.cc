@@ -131,7 +131,7 @@ RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_h
         if (incidence < noise.grazing_cos) continue;
         if (noise.projector_shadows &&
             Shadowed(objects, X_OC, table_height_m, best * d,
-                     Eigen::Vector3f(-static_cast<float>(noise.baseline_m), 0, 0)))
+                     Eigen::Vector3f(static_cast<float>(noise.baseline_m), 0, 0)))
           continue;
         z += noise.sigma_at_1m_m * z * z * n1;
         // Disparity quantization: the Kinect measures disparity in 1/8 pixel steps.

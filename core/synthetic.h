@@ -51,8 +51,8 @@ struct KinectNoise {
   double baseline_m = 0.075;
   double min_range_m = 0.5, max_range_m = 4.0;
   double grazing_cos = 0.12;  // returns lost below this incidence cosine
-  /// The IR projector sits baseline_m to the camera's left (-x in the camera frame): surfaces
-  /// it cannot light, beside the left edges of nearer objects, have no return.
+  /// The IR projector sits baseline_m to the camera's right (+x in the camera frame), as on a
+  /// Kinect: surfaces it cannot light, beside the left edges of nearer objects, have no return.
   bool projector_shadows = true;
 };
 

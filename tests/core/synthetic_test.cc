@@ -71,6 +71,29 @@ TEST(SyntheticKinect, DepthIsQuantizedInDisparityAndLimitedInRange) {
   EXPECT_GT(target, 3000);  // the target at 1 m covers thousands of pixels
 }
 
+TEST(SyntheticKinect, ProjectorShadowsFallOnTheTableLeftOfAnObject) {
+  const std::vector<SceneObject> box = {{Shape{{Shape::Part::Box({0, 0, 0}, {0.05f, 0.1f, 0.05f})}},
+                                         PoseOnTable(0.0f, 0.8f, 0.0f, 0.3f, 0.1f), 5}};
+  KinectNoise with, without;
+  without.projector_shadows = false;
+  const RenderedFrame a = RenderScene(box, 0.3f, kKinect, with, 4);
+  const RenderedFrame b = RenderScene(box, 0.3f, kKinect, without, 4);
+  int lost = 0, lost_right_of_box = 0;
+  for (int v = 0; v < kKinect.height; ++v) {
+    for (int u = 0; u < kKinect.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * kKinect.width + u;
+      const bool shadowed = std::isfinite(b.cloud[i].z) && !std::isfinite(a.cloud[i].z);
+      if (!shadowed) continue;
+      ++lost;
+      EXPECT_EQ(b.label[i], 0u) << "only the background behind the box is shadowed";
+      lost_right_of_box += u > kKinect.cx + 0.05 * kKinect.fx / 0.8;
+    }
+  }
+  // The projector is right of the camera, so the shadow is a band at the box's left edge.
+  EXPECT_GT(lost, 200);
+  EXPECT_EQ(lost_right_of_box, 0);
+}
+
 TEST(SyntheticKinect, CutModelIsInTheObjectFrame) {
   const auto objects = OneTarget();
   KinectNoise off;
