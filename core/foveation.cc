@@ -1,5 +1,7 @@
 #include "core/foveation.h"
 
+#include "core/fail.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,11 +17,6 @@ std::string VecStr(const Eigen::Vector3f& v) {
   std::ostringstream s;
   s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
   return s.str();
-}
-
-bool Fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
-  return false;
 }
 
 }  // namespace

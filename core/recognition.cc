@@ -1,5 +1,7 @@
 #include "core/recognition.h"
 
+#include "core/fail.h"
+
 #include <flann/flann.hpp>
 
 #include <algorithm>
@@ -16,11 +18,6 @@ using Clock = std::chrono::steady_clock;
 
 double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-bool Fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
-  return false;
 }
 
 bool PositiveFinite(float v) { return std::isfinite(v) && v > 0; }

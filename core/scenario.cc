@@ -1,5 +1,7 @@
 #include "core/scenario.h"
 
+#include "core/fail.h"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -9,11 +11,6 @@ namespace saccade {
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
-
-bool Fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
-  return false;
-}
 
 // X_WC: the camera at time t in the world frame (the camera frame at t = 0).
 Eigen::Isometry3f CameraPose(const Trajectory& motion, double t) {
@@ -126,8 +123,7 @@ ScenarioFrame RenderScenarioFrame(const Scenario& sc, int index, const CameraInt
   const Eigen::Isometry3f X_CO =
       X_CW * PoseOnTable(target_xz.x(), target_xz.y(), sc.target_motion.YawAt(out.time_s),
                          sc.table_height_m, sc.target_bottom_y_m);
-  constexpr std::uint32_t kTarget = 1;
-  std::vector<SceneObject> objects = {{sc.target, X_CO, kTarget}};
+  std::vector<SceneObject> objects = {{sc.target, X_CO, kTargetLabel}};
   std::size_t shown = sc.clutter.size();
   if (sc.clutter_grows) shown = std::min<std::size_t>(index, sc.clutter.size());
   for (std::size_t i = 0; i < shown; ++i) {
@@ -151,7 +147,7 @@ ScenarioFrame RenderScenarioFrame(const Scenario& sc, int index, const CameraInt
   out.rendered = RenderScene(objects, sc.table_height_m, k, sc.noise, seed);
   const RenderedFrame alone = RenderScene({objects.front()}, sc.table_height_m, k, sc.noise, seed);
   const auto count = [&](const RenderedFrame& f) {
-    return std::count(f.label.begin(), f.label.end(), kTarget);
+    return std::count(f.label.begin(), f.label.end(), kTargetLabel);
   };
   const auto whole = count(alone);
   out.truth.visible_fraction =
@@ -205,6 +201,27 @@ std::optional<Scenario> ScenarioPreset(const std::string& name) {
     return std::nullopt;
   }
   return s;
+}
+
+CrossCaptureCase MakeDemoCase(std::uint32_t seed, const CameraIntrinsics& intrinsics) {
+  Scenario capture = *ScenarioPreset("static");
+  capture.seed = seed;
+  capture.clutter.clear();  // the model is made from the target alone
+  capture.target_motion.start_xz_m = {0.0f, 0.9f};
+  capture.target_motion.yaw_rad = 0.35f;
+  Scenario scene = *ScenarioPreset("static");
+  scene.seed = seed + 1;
+  scene.target_motion.start_xz_m = {0.05f, 0.95f};
+  scene.target_motion.yaw_rad = 0.45f;
+
+  const ScenarioFrame model_frame = RenderScenarioFrame(capture, 0, intrinsics);
+  ScenarioFrame scene_frame = RenderScenarioFrame(scene, 0, intrinsics);
+  CrossCaptureCase c;
+  c.model = CutModel(model_frame.rendered, kTargetLabel, model_frame.truth.target_pose);
+  c.scene = std::move(scene_frame.rendered);
+  c.truth = scene_frame.truth.target_pose;
+  c.clutter_objects = static_cast<int>(scene.clutter.size());
+  return c;
 }
 
 }  // namespace saccade

@@ -63,6 +63,9 @@ struct Scenario {
   bool IsValid(std::string* error) const;
 };
 
+/// The label of the target's pixels in a scenario's frames (clutter: 2, 3, ...).
+constexpr std::uint32_t kTargetLabel = 1;
+
 /// The truth of one frame, in the camera frame of that frame.
 struct GroundTruth {
   Eigen::Isometry3f target_pose = Eigen::Isometry3f::Identity();  // X_CO
@@ -85,6 +88,18 @@ ScenarioFrame RenderScenarioFrame(const Scenario& scenario, int index,
 /// for an unknown name.
 std::optional<Scenario> ScenarioPreset(const std::string& name);
 std::vector<std::string> ScenarioPresetNames();
+
+/// The demo's recognition case: a model cut from one capture of the target alone, and a
+/// second capture (the `static` preset's first frame: the target among its clutter) where the
+/// target has moved and turned. `truth` is X_CO of the target in `scene`, mapping model
+/// coordinates into the scene's camera frame.
+struct CrossCaptureCase {
+  Cloud model;
+  RenderedFrame scene;
+  Eigen::Isometry3f truth = Eigen::Isometry3f::Identity();
+  int clutter_objects = 0;
+};
+CrossCaptureCase MakeDemoCase(std::uint32_t seed, const CameraIntrinsics& intrinsics = {});
 
 /// The centre of a shape's bounding box, in its own frame.
 Eigen::Vector3f ShapeCentre(const Shape& shape);

@@ -174,27 +174,4 @@ Eigen::Isometry3f PoseOnTable(float x_m, float z_m, float yaw_rad, float table_h
   return X;
 }
 
-CrossCaptureCase MakeDemoCase(std::uint32_t seed, const CameraIntrinsics& intrinsics) {
-  using Part = Shape::Part;
-  const float table = 0.3f;  // the camera 30 cm above the table, looking along it
-  CrossCaptureCase c;
-  const Eigen::Isometry3f X_CO_model = PoseOnTable(0.0f, 0.9f, 0.35f, table);
-  const RenderedFrame capture =
-      RenderScene({{TargetShape(), X_CO_model, 1}}, table, intrinsics, KinectNoise{}, seed);
-  c.model = CutModel(capture, 1, X_CO_model);
-  c.truth = PoseOnTable(0.05f, 0.95f, 0.45f, table);
-  const Shape crate{{Part::Box({0, 0, 0}, {0.08f, 0.06f, 0.08f})}};
-  const Shape ball{{Part::Sphere({0, 0, 0}, 0.06f)}};
-  const Shape can{{Part::Box({0, 0, 0}, {0.035f, 0.09f, 0.035f})}};
-  const std::vector<SceneObject> objects = {
-      {TargetShape(), c.truth, 1},
-      {crate, PoseOnTable(-0.25f, 1.2f, 0.3f, table, 0.06f), 2},
-      {ball, PoseOnTable(0.35f, 1.3f, 0.0f, table, 0.06f), 3},
-      {can, PoseOnTable(-0.1f, 0.85f, 0.7f, table, 0.09f), 4},
-  };
-  c.clutter_objects = static_cast<int>(objects.size()) - 1;
-  c.scene = RenderScene(objects, table, intrinsics, KinectNoise{}, seed + 1);
-  return c;
-}
-
 }  // namespace saccade

@@ -75,15 +75,4 @@ Cloud CutModel(const RenderedFrame& frame, std::uint32_t label, const Eigen::Iso
 Eigen::Isometry3f PoseOnTable(float x_m, float z_m, float yaw_rad, float table_height_m,
                               float bottom_y_m = 0.05f);
 
-/// The demo's recognition case: a model cut from one capture of the target alone, and a
-/// second capture where the target has moved and turned among clutter. `truth` is X_CO of
-/// the target in `scene`, mapping model coordinates into the scene's camera frame.
-struct CrossCaptureCase {
-  Cloud model;
-  RenderedFrame scene;
-  Eigen::Isometry3f truth = Eigen::Isometry3f::Identity();
-  int clutter_objects = 0;
-};
-CrossCaptureCase MakeDemoCase(std::uint32_t seed, const CameraIntrinsics& intrinsics = {});
-
 }  // namespace saccade

@@ -2,7 +2,7 @@
 
 #include "core/recognition.h"
 #include "core/reference_pipeline.h"
-#include "core/synthetic.h"
+#include "core/scenario.h"
 #include "daemon/args.h"
 #include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"

@@ -7,23 +7,24 @@ namespace saccade {
 
 namespace {
 
-sigset_t Handled(bool with_wakeup) {
+// The signals handled, and SIGUSR2: the destructor's wake-up call to the waiting thread.
+sigset_t Handled() {
   sigset_t set;
   sigemptyset(&set);
   sigaddset(&set, SIGINT);
   sigaddset(&set, SIGTERM);
   sigaddset(&set, SIGHUP);
-  if (with_wakeup) sigaddset(&set, SIGUSR2);  // the destructor's wake-up call
+  sigaddset(&set, SIGUSR2);
   return set;
 }
 
 }  // namespace
 
 SignalWaiter::SignalWaiter(std::function<void(int)> on_signal) : on_signal_(std::move(on_signal)) {
-  const sigset_t set = Handled(true);
+  const sigset_t set = Handled();
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
   thread_ = std::thread([this] {
-    const sigset_t wait_set = Handled(true);
+    const sigset_t wait_set = Handled();
     for (;;) {
       int signo = 0;
       if (sigwait(&wait_set, &signo) != 0) continue;
@@ -36,7 +37,7 @@ SignalWaiter::SignalWaiter(std::function<void(int)> on_signal) : on_signal_(std:
 SignalWaiter::~SignalWaiter() {
   pthread_kill(thread_.native_handle(), SIGUSR2);
   thread_.join();
-  const sigset_t set = Handled(true);
+  const sigset_t set = Handled();
   pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
 }
 

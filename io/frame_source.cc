@@ -1,5 +1,7 @@
 #include "io/frame_source.h"
 
+#include "core/fail.h"
+
 #include "core/features.h"
 #include "io/cloud_io.h"
 #include "io/config.h"
@@ -22,11 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool Fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
-  return false;
-}
-
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -40,6 +37,9 @@ class Sequence {
   /// Frame `i` (0 <= i < size()); capture_utime relative to the sequence's start.
   virtual bool Read(std::size_t i, Frame* frame, std::string* error) const = 0;
   virtual std::string Describe() const = 0;
+  /// The sequence's own frame clock: frame i is captured at i / clock_hz(), and a loop's next
+  /// pass continues from where the last one ended.
+  virtual double clock_hz() const = 0;
 };
 
 // Plays a Sequence: once or looping; paced at `rate_hz` on its own thread into a latest-frame
@@ -107,8 +107,7 @@ class SequenceSource : public FrameSource {
       return Status::kError;
     }
     // Each pass through a loop continues the clock where the last one ended.
-    const double period_us = 1e6 / (rate_hz_ > 0 ? rate_hz_ : 30.0);
-    frame->capture_utime += static_cast<std::int64_t>(pass * n * period_us);
+    frame->capture_utime += std::llround(pass * n * 1e6 / sequence_->clock_hz());
     frame->sequence = next_++;
     ++produced_;
     return Status::kFrame;
@@ -146,113 +145,106 @@ class SequenceSource : public FrameSource {
   std::thread producer_;
 };
 
-// Files of a folder whose names pass `keep`, in name order.
-std::vector<std::string> ListFiles(const std::string& dir,
-                                   const std::function<bool(const std::string&)>& keep) {
+// PCD files of a folder, in name order.
+std::vector<std::string> ListPcdFiles(const std::string& dir) {
   std::vector<std::string> out;
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (entry.is_regular_file() && keep(name)) out.push_back(entry.path().string());
-  }
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    if (entry.is_regular_file() && EndsWith(entry.path().filename().string(), ".pcd"))
+      out.push_back(entry.path().string());
   std::sort(out.begin(), out.end());
   return out;
 }
 
-std::int64_t NominalUtime(std::size_t i, double rate_hz) {
-  return static_cast<std::int64_t>(std::llround(i * 1e6 / (rate_hz > 0 ? rate_hz : 30.0)));
-}
-
-// Ground truth recorded beside files (truth.csv), by row.
-std::vector<std::optional<GroundTruth>> TruthBeside(const std::string& dir, std::size_t n,
-                                                    std::string* error, bool* ok) {
+// Ground truth recorded beside files (truth.csv), by row; none when there is no such file.
+// nullopt with `error` when the file is malformed.
+std::optional<std::vector<std::optional<GroundTruth>>> TruthBeside(const std::string& dir,
+                                                                   std::size_t n,
+                                                                   std::string* error) {
   std::vector<std::optional<GroundTruth>> truth(n);
-  *ok = true;
   const std::string path = (fs::path(dir) / kTruthFileName).string();
   if (!fs::exists(path)) return truth;
   std::vector<TruthRow> rows;
-  if (!ReadTruthFile(path, &rows, error)) {
-    *ok = false;
-    return truth;
-  }
+  if (!ReadTruthFile(path, &rows, error)) return std::nullopt;
   for (std::size_t i = 0; i < rows.size() && i < n; ++i) truth[i] = rows[i].truth;
   return truth;
 }
 
-class PcdSequence : public Sequence {
+// Frames stored one per file in a folder, with their truth beside them. The clock is the
+// rate the files are played at, 30 Hz when they are read as fast as possible.
+class FolderSequence : public Sequence {
  public:
-  PcdSequence(std::vector<std::string> files, std::vector<std::optional<GroundTruth>> truth,
-              double rate_hz, std::string dir)
-      : files_(std::move(files)),
+  FolderSequence(std::string kind, std::string dir, std::vector<std::string> files,
+                 std::vector<std::optional<GroundTruth>> truth, double rate_hz)
+      : kind_(std::move(kind)),
+        dir_(std::move(dir)),
+        files_(std::move(files)),
         truth_(std::move(truth)),
-        rate_hz_(rate_hz),
-        dir_(std::move(dir)) {}
+        clock_hz_(rate_hz > 0 ? rate_hz : 30.0) {}
   std::size_t size() const override { return files_.size(); }
-  bool Read(std::size_t i, Frame* frame, std::string* error) const override {
-    auto cloud = LoadCloud(files_[i], error);
-    if (!cloud) return false;
-    if (cloud->height <= 1) return Fail(error, files_[i] + ": not an organized cloud (height 1)");
-    const auto k = EstimateIntrinsics(*cloud);
-    if (!k) return Fail(error, files_[i] + ": cannot estimate intrinsics (too few points)");
-    frame->intrinsics = *k;
-    frame->cloud = std::make_shared<const Cloud>(std::move(*cloud));
-    frame->capture_utime = NominalUtime(i, rate_hz_);
-    frame->truth = truth_[i];
-    return true;
-  }
+  double clock_hz() const override { return clock_hz_; }
   std::string Describe() const override {
-    return "pcd:" + dir_ + " (" + std::to_string(files_.size()) + " files)";
+    return kind_ + ":" + dir_ + " (" + std::to_string(files_.size()) + " frames)";
   }
+
+ protected:
+  // Sets what every folder frame has besides its cloud: intrinsics, time and truth.
+  void Stamp(std::size_t i, const CameraIntrinsics& k, Cloud cloud, Frame* frame) const {
+    frame->intrinsics = k;
+    frame->cloud = std::make_shared<const Cloud>(std::move(cloud));
+    frame->capture_utime = std::llround(i * 1e6 / clock_hz_);
+    frame->truth = truth_[i];
+  }
+  const std::string& file(std::size_t i) const { return files_[i]; }
 
  private:
+  std::string kind_, dir_;
   std::vector<std::string> files_;
   std::vector<std::optional<GroundTruth>> truth_;
-  double rate_hz_;
-  std::string dir_;
+  double clock_hz_;
 };
 
-class DepthSequence : public Sequence {
+class PcdSequence : public FolderSequence {
  public:
-  DepthSequence(std::vector<std::string> depth, std::vector<std::string> rgb,
-                std::vector<std::optional<GroundTruth>> truth, CameraIntrinsics k, double rate_hz,
-                std::string dir)
-      : depth_(std::move(depth)),
-        rgb_(std::move(rgb)),
-        truth_(std::move(truth)),
-        k_(k),
-        rate_hz_(rate_hz),
-        dir_(std::move(dir)) {}
-  std::size_t size() const override { return depth_.size(); }
+  using FolderSequence::FolderSequence;
+  bool Read(std::size_t i, Frame* frame, std::string* error) const override {
+    auto cloud = LoadCloud(file(i), error);
+    if (!cloud) return false;
+    if (cloud->height <= 1) return Fail(error, file(i) + ": not an organized cloud (height 1)");
+    const auto k = EstimateIntrinsics(*cloud);
+    if (!k) return Fail(error, file(i) + ": cannot estimate intrinsics (too few points)");
+    Stamp(i, *k, std::move(*cloud), frame);
+    return true;
+  }
+};
+
+class DepthSequence : public FolderSequence {
+ public:
+  DepthSequence(std::string dir, std::vector<std::string> depth,
+                std::vector<std::optional<GroundTruth>> truth, double rate_hz, CameraIntrinsics k)
+      : FolderSequence("depth", std::move(dir), std::move(depth), std::move(truth), rate_hz),
+        k_(k) {}
   bool Read(std::size_t i, Frame* frame, std::string* error) const override {
     DepthImage depth;
-    if (!ReadDepthImage(depth_[i], &depth, error)) return false;
+    if (!ReadDepthImage(file(i), &depth, error)) return false;
     if (depth.width != k_.width || depth.height != k_.height)
-      return Fail(error, depth_[i] + ": image is " + std::to_string(depth.width) + "x" +
+      return Fail(error, file(i) + ": image is " + std::to_string(depth.width) + "x" +
                              std::to_string(depth.height) + ", intrinsics say " +
                              std::to_string(k_.width) + "x" + std::to_string(k_.height));
     RgbImage rgb;
-    if (!rgb_[i].empty()) {
-      if (!ReadRgbImage(rgb_[i], &rgb, error)) return false;
+    const std::string rgb_path = RgbPartner(file(i));
+    if (!rgb_path.empty()) {
+      if (!ReadRgbImage(rgb_path, &rgb, error)) return false;
       if (rgb.width != depth.width || rgb.height != depth.height)
-        return Fail(error, rgb_[i] + ": colour image size differs from its depth image");
+        return Fail(error, rgb_path + ": colour image size differs from its depth image");
     }
-    frame->intrinsics = k_;
-    frame->cloud = std::make_shared<const Cloud>(
-        DepthToCloud(depth.data.data(), rgb.data.empty() ? nullptr : rgb.data.data(), k_));
-    frame->capture_utime = NominalUtime(i, rate_hz_);
-    frame->truth = truth_[i];
+    Stamp(i, k_, DepthToCloud(depth.data.data(), rgb.data.empty() ? nullptr : rgb.data.data(), k_),
+          frame);
     return true;
-  }
-  std::string Describe() const override {
-    return "depth:" + dir_ + " (" + std::to_string(depth_.size()) + " frames)";
   }
 
  private:
-  std::vector<std::string> depth_, rgb_;
-  std::vector<std::optional<GroundTruth>> truth_;
   CameraIntrinsics k_;
-  double rate_hz_;
-  std::string dir_;
 };
 
 class ScenarioSequence : public Sequence {
@@ -267,6 +259,7 @@ class ScenarioSequence : public Sequence {
     frame->truth = f.truth;
     return true;
   }
+  double clock_hz() const override { return s_.rate_hz; }
   std::string Describe() const override {
     return "synthetic:" + s_.name + " (" + std::to_string(s_.frames) + " frames, seed " +
            std::to_string(s_.seed) + ")";
@@ -331,49 +324,34 @@ std::unique_ptr<FrameSource> OpenFiles(const SourceSpec& spec, std::string* erro
     Fail(error, spec.target + ": no such folder (source '" + spec.kind + ":" + spec.target + "')");
     return nullptr;
   }
-  bool truth_ok = true;
-  if (spec.kind == "pcd") {
-    auto files = ListFiles(spec.target, [](const std::string& n) { return EndsWith(n, ".pcd"); });
-    if (files.empty()) {
-      Fail(error, spec.target + ": no .pcd file in the folder");
-      return nullptr;
-    }
-    auto truth = TruthBeside(spec.target, files.size(), error, &truth_ok);
-    if (!truth_ok) return nullptr;
-    return std::make_unique<SequenceSource>(
-        std::make_unique<PcdSequence>(std::move(files), std::move(truth), rate, spec.target), rate,
-        loop);
-  }
-  const auto is_image = [](const std::string& n) {
-    return EndsWith(n, ".png") || EndsWith(n, ".tif") || EndsWith(n, ".tiff");
-  };
-  auto depth = ListFiles(spec.target, [&](const std::string& n) {
-    return is_image(n) && n.find("depth") != std::string::npos;
-  });
-  if (depth.empty()) {
-    Fail(error, spec.target + ": no depth image (PNG or TIFF named *depth*) in the folder");
+  std::vector<std::string> files =
+      spec.kind == "pcd" ? ListPcdFiles(spec.target) : ListDepthImages(spec.target);
+  if (files.empty()) {
+    Fail(error, spec.target + (spec.kind == "pcd"
+                                   ? ": no .pcd file in the folder"
+                                   : ": no depth image (PNG or TIFF named *depth*) in the folder"));
     return nullptr;
   }
-  std::vector<std::string> rgb;
-  for (const auto& d : depth) {
-    std::string name = fs::path(d).filename().string();
-    name.replace(name.rfind("depth"), 5, "rgb");
-    const fs::path partner = fs::path(d).parent_path() / name;
-    rgb.push_back(fs::exists(partner) ? partner.string() : "");
+  auto truth = TruthBeside(spec.target, files.size(), error);
+  if (!truth) return nullptr;
+  std::unique_ptr<Sequence> sequence;
+  if (spec.kind == "pcd") {
+    sequence = std::make_unique<PcdSequence>("pcd", spec.target, std::move(files),
+                                             std::move(*truth), rate);
+  } else {
+    const auto it = spec.options.find("intrinsics");
+    const std::string k_path = it != spec.options.end()
+                                   ? it->second
+                                   : (fs::path(spec.target) / "intrinsics.yaml").string();
+    IntrinsicsFile kf;
+    if (!ReadIntrinsicsFile(k_path, &kf, error)) return nullptr;
+    CameraIntrinsics k;
+    k.fx = kf.fx, k.fy = kf.fy, k.cx = kf.cx, k.cy = kf.cy;
+    k.width = kf.width, k.height = kf.height;
+    sequence =
+        std::make_unique<DepthSequence>(spec.target, std::move(files), std::move(*truth), rate, k);
   }
-  const auto it = spec.options.find("intrinsics");
-  const std::string k_path =
-      it != spec.options.end() ? it->second : (fs::path(spec.target) / "intrinsics.yaml").string();
-  IntrinsicsFile kf;
-  if (!ReadIntrinsicsFile(k_path, &kf, error)) return nullptr;
-  CameraIntrinsics k;
-  k.fx = kf.fx, k.fy = kf.fy, k.cx = kf.cx, k.cy = kf.cy, k.width = kf.width, k.height = kf.height;
-  auto truth = TruthBeside(spec.target, depth.size(), error, &truth_ok);
-  if (!truth_ok) return nullptr;
-  return std::make_unique<SequenceSource>(
-      std::make_unique<DepthSequence>(std::move(depth), std::move(rgb), std::move(truth), k, rate,
-                                      spec.target),
-      rate, loop);
+  return std::make_unique<SequenceSource>(std::move(sequence), rate, loop);
 }
 
 std::unique_ptr<FrameSource> OpenSynthetic(const SourceSpec& spec, std::string* error) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -105,8 +106,7 @@ bool ReadTiff(const std::string& path, int keep, Image<T>* image, std::string* e
 bool ReadDepthImage(const std::string& path, DepthImage* image, std::string* error) {
   if (IsTiff(path)) return ReadTiff(path, 1, image, error);
   // PNG_FORMAT_LINEAR_Y is 16-bit grey; libpng passes 16-bit grey samples through unchanged.
-  if (!ReadPng(path, PNG_FORMAT_LINEAR_Y, 1, image, error)) return false;
-  return true;
+  return ReadPng(path, PNG_FORMAT_LINEAR_Y, 1, image, error);
 }
 
 bool ReadRgbImage(const std::string& path, RgbImage* image, std::string* error) {
@@ -120,6 +120,29 @@ bool WriteDepthPng(const std::string& path, const DepthImage& image, std::string
 
 bool WriteRgbPng(const std::string& path, const RgbImage& image, std::string* error) {
   return WritePng(path, PNG_FORMAT_RGB, image, error);
+}
+
+std::vector<std::string> ListDepthImages(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const bool image = EndsWith(name, ".png") || IsTiff(name);
+    if (entry.is_regular_file() && image && name.find("depth") != std::string::npos)
+      out.push_back(entry.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string RgbPartner(const std::string& depth_path) {
+  const std::filesystem::path path(depth_path);
+  std::string name = path.filename().string();
+  const auto at = name.rfind("depth");
+  if (at == std::string::npos) return "";
+  name.replace(at, 5, "rgb");
+  const std::filesystem::path partner = path.parent_path() / name;
+  return std::filesystem::exists(partner) ? partner.string() : "";
 }
 
 bool ReadIntrinsicsFile(const std::string& path, IntrinsicsFile* k, std::string* error) {

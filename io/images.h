@@ -25,6 +25,13 @@ bool ReadRgbImage(const std::string& path, RgbImage* image, std::string* error);
 bool WriteDepthPng(const std::string& path, const DepthImage& image, std::string* error);
 bool WriteRgbPng(const std::string& path, const RgbImage& image, std::string* error);
 
+/// The depth images of a folder, in name order: PNG or TIFF files whose names contain "depth".
+/// Empty when there are none or the folder cannot be read.
+std::vector<std::string> ListDepthImages(const std::string& dir);
+/// The colour image beside a depth image: its name with the last "depth" made "rgb"; empty
+/// when no such file exists.
+std::string RgbPartner(const std::string& depth_path);
+
 /// Pinhole intrinsics as written beside depth images: one "key: value" per line for fx, fy,
 /// cx, cy (pixels), width and height. Plain numbers, so the file is also valid YAML.
 struct IntrinsicsFile {

@@ -1,5 +1,7 @@
 #include "io/openni2_source.h"
 
+#include "core/fail.h"
+
 #include "io/mailbox.h"
 
 #include <OpenNI.h>
@@ -17,11 +19,6 @@ namespace saccade {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-bool Fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
-  return false;
-}
 
 std::string LastOpenNIError() {
   const char* e = openni::OpenNI::getExtendedError();
@@ -66,16 +63,24 @@ bool ToFrame(const openni::VideoFrameRef& ref, const CameraIntrinsics& k, Frame*
     return Fail(error, "OpenNI2 stream: not a depth format (" + std::to_string(format) + ")");
   if (ref.getWidth() != k.width || ref.getHeight() != k.height || ref.getCropOriginX() != 0)
     return Fail(error, "OpenNI2 stream: frame size differs from the stream's video mode");
-  std::vector<std::uint16_t> mm(static_cast<std::size_t>(k.width) * k.height);
-  const auto* bytes = static_cast<const std::uint8_t*>(ref.getData());
-  for (int v = 0; v < k.height; ++v) {
-    const auto* row = reinterpret_cast<const std::uint16_t*>(bytes + v * ref.getStrideInBytes());
-    for (int u = 0; u < k.width; ++u)
-      mm[static_cast<std::size_t>(v) * k.width + u] =
-          format == openni::PIXEL_FORMAT_DEPTH_100_UM ? row[u] / 10 : row[u];
+  const auto* data = static_cast<const std::uint16_t*>(ref.getData());
+  // Millimetres packed row after row are the common case and convert in place; other layouts
+  // are repacked first.
+  std::vector<std::uint16_t> mm;
+  const bool packed = ref.getStrideInBytes() == k.width * static_cast<int>(sizeof(std::uint16_t));
+  if (!packed || format == openni::PIXEL_FORMAT_DEPTH_100_UM) {
+    mm.resize(static_cast<std::size_t>(k.width) * k.height);
+    const auto* bytes = static_cast<const std::uint8_t*>(ref.getData());
+    for (int v = 0; v < k.height; ++v) {
+      const auto* row = reinterpret_cast<const std::uint16_t*>(bytes + v * ref.getStrideInBytes());
+      for (int u = 0; u < k.width; ++u)
+        mm[static_cast<std::size_t>(v) * k.width + u] =
+            format == openni::PIXEL_FORMAT_DEPTH_100_UM ? row[u] / 10 : row[u];
+    }
+    data = mm.data();
   }
   frame->intrinsics = k;
-  frame->cloud = std::make_shared<const Cloud>(DepthToCloud(mm.data(), nullptr, k));
+  frame->cloud = std::make_shared<const Cloud>(DepthToCloud(data, nullptr, k));
   frame->capture_utime = static_cast<std::int64_t>(ref.getTimestamp());
   return true;
 }
@@ -84,10 +89,9 @@ bool ToFrame(const openni::VideoFrameRef& ref, const CameraIntrinsics& k, Frame*
 // OpenNI2's callback thread fills, and the counters.
 class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameListener {
  public:
-  ~StreamSource() override {
-    Stop();
-    CloseStream();
-  }
+  // Each derived class stops and closes the stream in its own destructor, while onNewFrame
+  // still resolves to it; by the time this one runs the stream is closed.
+  ~StreamSource() override = default;
 
   Status Next(Frame* frame, std::string* error) override {
     auto item = mailbox_.Take();

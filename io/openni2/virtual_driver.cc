@@ -18,7 +18,6 @@
 
 #include "io/images.h"
 
-#include <dirent.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -45,20 +44,9 @@ bool LoadRecording(const std::string& dir, Recording* out) {
   std::string error;
   if (!saccade::ReadIntrinsicsFile(dir + "/intrinsics.yaml", &out->intrinsics, &error))
     return false;
-  std::vector<std::string> names;
-  if (DIR* d = opendir(dir.c_str())) {
-    while (dirent* e = readdir(d)) {
-      const std::string n = e->d_name;
-      const bool image =
-          n.size() > 4 && (n.rfind(".png") == n.size() - 4 || n.rfind(".tiff") == n.size() - 5);
-      if (image && n.find("depth") != std::string::npos) names.push_back(n);
-    }
-    closedir(d);
-  }
-  std::sort(names.begin(), names.end());
-  for (const auto& n : names) {
+  for (const auto& path : saccade::ListDepthImages(dir)) {
     saccade::DepthImage image;
-    if (!saccade::ReadDepthImage(dir + "/" + n, &image, &error)) return false;
+    if (!saccade::ReadDepthImage(path, &image, &error)) return false;
     if (image.width != out->intrinsics.width || image.height != out->intrinsics.height)
       return false;
     out->frames.push_back(std::move(image));
@@ -133,13 +121,7 @@ class DepthStream : public oni::driver::StreamBase {
                    ONI_STREAM_PROPERTY_MIN_VALUE, ONI_STREAM_PROPERTY_STRIDE,
                    ONI_STREAM_PROPERTY_MIRRORING, ONI_STREAM_PROPERTY_CROPPING}) {
       alignas(8) unsigned char value[64];
-      int size =
-          id == ONI_STREAM_PROPERTY_VIDEO_MODE ? sizeof(OniVideoMode)
-          : id == ONI_STREAM_PROPERTY_HORIZONTAL_FOV || id == ONI_STREAM_PROPERTY_VERTICAL_FOV
-              ? sizeof(float)
-          : id == ONI_STREAM_PROPERTY_MIRRORING ? sizeof(OniBool)
-          : id == ONI_STREAM_PROPERTY_CROPPING  ? sizeof(OniCropping)
-                                                : sizeof(int);
+      int size = sizeof(value);
       if (getProperty(id, value, &size) == ONI_STATUS_OK) raisePropertyChanged(id, value, size);
     }
   }
@@ -158,10 +140,12 @@ class DepthStream : public oni::driver::StreamBase {
   }
 
  private:
+  // Writes a property value; `*size` is the room at `data` in, the value's size out.
   template <typename T>
   static OniStatus Put(const T& value, void* data, int* size) {
-    if (*size != static_cast<int>(sizeof(T))) return ONI_STATUS_BAD_PARAMETER;
+    if (*size < static_cast<int>(sizeof(T))) return ONI_STATUS_BAD_PARAMETER;
     std::memcpy(data, &value, sizeof(T));
+    *size = sizeof(T);
     return ONI_STATUS_OK;
   }
 

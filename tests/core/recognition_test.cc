@@ -66,8 +66,8 @@ TEST_P(MilkScene, ModelInItsOwnFrameIsFoundAtTheTruePose) {
   std::string error;
   const auto truth = LoadPose(testing::DataPath(kMilkPose), &error);
   ASSERT_TRUE(truth) << error;
-  auto model = DescribeModel(Load(kMilkModel), RecognitionOptions{}, &error);
-  ASSERT_TRUE(model) << error;
+  const auto model = Describe(kMilkModel);
+  ASSERT_TRUE(model);
   SceneQuery q;
   q.foveated = GetParam();
   q.fovea_m = kCartonCentre;

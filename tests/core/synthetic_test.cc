@@ -2,6 +2,7 @@
 // target that is found from a model cut out of another capture.
 #include "core/synthetic.h"
 #include "core/recognition.h"
+#include "core/scenario.h"
 
 #include <gtest/gtest.h>
 

@@ -109,6 +109,12 @@ TEST(SyntheticSource, LoopContinuesSequenceAndClock) {
   EXPECT_EQ(f.capture_utime, std::llround(4 * 1e6 / 30));
   source->Stop();
   EXPECT_EQ(source->Next(&f, &error), FrameSource::Status::kEnd);
+
+  // The scenario's own clock, not the 30 Hz default: the paper protocol shows a scene a second.
+  source = OpenSource("synthetic:paper-protocol?rate=0&frames=2&loop=1", &error);
+  ASSERT_TRUE(source) << error;
+  for (int i = 0; i < 3; ++i) ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame);
+  EXPECT_EQ(f.capture_utime, 2000000);
 }
 
 TEST(Scenarios, TrajectoriesAndVisibility) {
