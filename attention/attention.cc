@@ -1,7 +1,10 @@
 #include "attention/attention.h"
 
+#include "core/fail.h"
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace saccade {
 
@@ -17,18 +20,34 @@ const char* ModeName(AttentionMode mode) {
   return "?";
 }
 
+Eigen::Vector3f Fixation::FoveaAt(double capture_time_s, double max_horizon_s) const {
+  const double dt = std::clamp(capture_time_s - time_s, 0.0, std::max(0.0, max_horizon_s));
+  return fovea_m + velocity_mps * static_cast<float>(dt);
+}
+
 bool AttentionOptions::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& m) {
-    if (error) *error = m;
-    return false;
-  };
-  if (!std::isfinite(growth_min_m) || growth_min_m < 0) return fail("growth_min_m must be >= 0");
-  if (!std::isfinite(growth_max_m) || growth_max_m < growth_min_m)
-    return fail("growth_max_m must be >= growth_min_m");
-  if (!std::isfinite(growth_step) || growth_step <= 0) return fail("growth_step must be > 0");
-  if (multiplicative && growth_step <= 1)
-    return fail("growth_step must be > 1 when multiplicative");
+  const auto finite = [](float v) { return std::isfinite(v); };
+  if (!finite(growth_min_m) || growth_min_m < 0) return Fail(error, "growth_min_m must be >= 0");
+  if (!finite(growth_max_m) || growth_max_m < growth_min_m)
+    return Fail(error, "growth_max_m must be >= growth_min_m");
+  if (!finite(growth_step) || growth_step <= 0) return Fail(error, "growth_step must be > 0");
+  if (growth_kind == GrowthKind::kMultiplicative && growth_step <= 1)
+    return Fail(error, "growth_step must be > 1 when growth is multiplicative");
+  if (!finite(growth_floor_m) || growth_floor_m <= 0)
+    return Fail(error, "growth_floor_m must be > 0");
+  if (!finite(saccade_region_m) || saccade_region_m <= 0)
+    return Fail(error, "saccade_region_m must be > 0");
+  if (max_targets < 1) return Fail(error, "max_targets must be >= 1");
+  if (!finite(same_target_m) || same_target_m <= 0) return Fail(error, "same_target_m must be > 0");
+  if (!finite(predict_max_horizon_s) || predict_max_horizon_s < 0)
+    return Fail(error, "predict_max_horizon_s must be >= 0");
+  if (!finite(velocity_smoothing) || velocity_smoothing <= 0 || velocity_smoothing > 1)
+    return Fail(error, "velocity_smoothing must be in (0, 1]");
   return true;
+}
+
+Eigen::Vector3f Attention::Target::PredictedAt(double time_s) const {
+  return position_m + velocity_mps * static_cast<float>(std::max(0.0, time_s - last_seen_s));
 }
 
 Attention::Attention(const AttentionOptions& options, const Eigen::Vector3f& initial_fovea_m)
@@ -36,51 +55,203 @@ Attention::Attention(const AttentionOptions& options, const Eigen::Vector3f& ini
   Reset(initial_fovea_m);
 }
 
-void Attention::Reset(const Eigen::Vector3f& fovea_m) {
+void Attention::Reset(const Eigen::Vector3f& fovea_m, const std::string& reason) {
+  const std::int64_t seq = current_.frame_seq;
+  const double time_s = current_.time_s;
   current_ = Fixation{};
+  current_.frame_seq = seq;
+  current_.time_s = time_s;
   current_.fovea_m = fovea_m;
   current_.growth_m = options_.growth_min_m;
   current_.mode = AttentionMode::kSearching;
-  current_.reason = "reset";
+  current_.reason = reason;
+  targets_.clear();
+  visited_.clear();
+  saccading_ = false;
+}
+
+void Attention::SetOptions(const AttentionOptions& options) {
+  options_ = options;
+  current_.growth_m = std::clamp(current_.growth_m, options_.growth_min_m, options_.growth_max_m);
+  if (!options_.predict) {
+    current_.velocity_mps.setZero();
+    for (Target& t : targets_) t.velocity_mps.setZero();
+  }
+  // Fewer targets allowed: keep the followed one and the oldest others.
+  while (static_cast<int>(targets_.size()) > options_.max_targets) {
+    auto drop = std::find_if(targets_.rbegin(), targets_.rend(),
+                             [&](const Target& t) { return t.id != current_.target; });
+    targets_.erase(std::next(drop).base());
+  }
+  current_.num_targets = static_cast<int>(targets_.size());
+}
+
+Attention::Target* Attention::Find(int id) {
+  for (Target& t : targets_)
+    if (t.id == id) return &t;
+  return nullptr;
+}
+
+void Attention::See(Target* target, const Sighting& s, double time_s) {
+  const double dt = time_s - target->last_seen_s;
+  if (options_.predict && dt > 0) {
+    const Eigen::Vector3f v = (s.centroid_m - target->position_m) / static_cast<float>(dt);
+    const float a = target->has_velocity ? options_.velocity_smoothing : 1.0f;
+    target->velocity_mps = a * v + (1 - a) * target->velocity_mps;
+    target->has_velocity = true;
+  }
+  target->position_m = s.centroid_m;
+  target->last_seen_s = time_s;
+}
+
+// Every target but the followed one takes the nearest unclaimed sighting of its model within
+// same_target_m of where it should be; the followed target then takes the remaining sighting
+// nearest the fovea, however far (the paper's rule: it may have moved while lost); what is left
+// becomes new targets, nearest the fovea first, while there is room.
+void Attention::Associate(double time_s, const std::vector<Sighting>& sightings,
+                          bool* attended_seen) {
+  std::vector<bool> used(sightings.size(), false);
+  const auto nearest = [&](int model, const Eigen::Vector3f& to, float max_distance) {
+    int best = -1;
+    float best_d = max_distance;
+    for (std::size_t i = 0; i < sightings.size(); ++i) {
+      if (used[i] || (model >= 0 && sightings[i].model != model)) continue;
+      const float d = (sightings[i].centroid_m - to).norm();
+      if (d <= best_d) best = static_cast<int>(i), best_d = d;
+    }
+    return best;
+  };
+  for (Target& t : targets_) {
+    if (t.id == current_.target) continue;
+    const int i = nearest(t.model, t.PredictedAt(time_s), options_.same_target_m);
+    if (i < 0) continue;
+    used[i] = true;
+    See(&t, sightings[i], time_s);
+  }
+  const Eigen::Vector3f fovea = current_.FoveaAt(time_s, options_.predict_max_horizon_s);
+  constexpr float kAnyDistance = std::numeric_limits<float>::infinity();
+  *attended_seen = false;
+  if (Target* followed = Find(current_.target)) {
+    const int i = nearest(followed->model, fovea, kAnyDistance);
+    if (i >= 0) {
+      used[i] = true;
+      See(followed, sightings[i], time_s);
+      *attended_seen = true;
+    }
+  }
+  while (static_cast<int>(targets_.size()) < options_.max_targets) {
+    const int i = nearest(-1, fovea, kAnyDistance);
+    if (i < 0) break;
+    used[i] = true;
+    Target t;
+    t.id = next_id_++;
+    t.model = sightings[i].model;
+    t.position_m = sightings[i].centroid_m;
+    t.last_seen_s = time_s;
+    targets_.push_back(t);
+  }
+}
+
+void Attention::Follow(const Target& target, double time_s, const char* reason,
+                       Fixation* next) const {
+  next->fovea_m = target.PredictedAt(time_s);
+  next->velocity_mps = target.velocity_mps;
+  next->growth_m = options_.growth_min_m;
+  next->mode = AttentionMode::kTracking;
+  next->target = target.id;
+  next->model = target.model;
+  next->reason = reason;
 }
 
 Fixation Attention::Update(std::int64_t frame_seq, double time_s,
-                           const std::vector<Detection>& detections) {
+                           const std::vector<Sighting>& sightings,
+                           const std::vector<Eigen::Vector3f>& salient_regions) {
   Fixation next = current_;
   next.frame_seq = frame_seq;
   next.time_s = time_s;
-  if (!detections.empty()) {
-    // Follow the instance nearest the previous fovea.
-    int best = 0;
-    for (int i = 1; i < static_cast<int>(detections.size()); ++i)
-      if ((detections[i].centroid_m - current_.fovea_m).squaredNorm() <
-          (detections[best].centroid_m - current_.fovea_m).squaredNorm())
-        best = i;
-    next.fovea_m = detections[best].centroid_m;
-    next.growth_m = options_.growth_min_m;
-    next.mode = AttentionMode::kTracking;
-    next.target = best;
-    next.reason = "detected";
-  } else {
-    next.target = -1;
-    if (current_.mode == AttentionMode::kFullScan) {
-      next.reason = "full_scan";
+  bool attended_seen = false;
+  Associate(time_s, sightings, &attended_seen);
+
+  if (attended_seen) {
+    visited_.clear();
+    saccading_ = false;
+    const auto it = std::find_if(targets_.begin(), targets_.end(),
+                                 [&](const Target& t) { return t.id == current_.target; });
+    if (targets_.size() > 1) {  // visit the next target in turn
+      const auto after = std::next(it) == targets_.end() ? targets_.begin() : std::next(it);
+      Follow(*after, time_s, "alternate", &next);
     } else {
-      const float grown = options_.multiplicative
-                              ? std::max(current_.growth_m, 0.01f) * options_.growth_step
-                              : current_.growth_m + options_.growth_step;
-      if (current_.growth_m >= options_.growth_max_m && options_.full_scan_fallback) {
-        next.mode = AttentionMode::kFullScan;
-        next.reason = "full_scan";
-      } else {
-        next.growth_m = std::min(grown, options_.growth_max_m);
-        next.mode = AttentionMode::kSearching;
-        next.reason = current_.mode == AttentionMode::kTracking ? "lost" : "grow";
-      }
+      Follow(*it, time_s, "detected", &next);
     }
+  } else if (current_.target < 0 && !targets_.empty()) {
+    // Found while searching with no target: follow the new target nearest the fovea.
+    const auto it = std::min_element(targets_.begin(), targets_.end(), [&](auto& a, auto& b) {
+      return (a.position_m - current_.fovea_m).squaredNorm() <
+             (b.position_m - current_.fovea_m).squaredNorm();
+    });
+    visited_.clear();
+    saccading_ = false;
+    Follow(*it, time_s, "detected", &next);
+  } else {
+    Lost(salient_regions, &next);
   }
+  next.num_targets = static_cast<int>(targets_.size());
   current_ = next;
   return next;
+}
+
+void Attention::Lost(const std::vector<Eigen::Vector3f>& salient, Fixation* next) {
+  next->velocity_mps.setZero();  // a lost target's fovea stays where it was last seen
+  if (current_.mode == AttentionMode::kFullScan) {
+    next->reason = "full_scan";
+    return;
+  }
+  if (current_.growth_m < options_.growth_max_m && !saccading_) {
+    const float g = current_.growth_m;
+    const float grown = options_.growth_kind == GrowthKind::kMultiplicative
+                            ? std::max(g, options_.growth_floor_m) * options_.growth_step
+                            : g + options_.growth_step;
+    next->growth_m = std::min(grown, options_.growth_max_m);
+    next->mode = AttentionMode::kSearching;
+    next->reason = current_.mode == AttentionMode::kTracking ? "lost" : "grow";
+    return;
+  }
+  // At G_max. With other targets, give this one up and visit the next.
+  if (targets_.size() > 1) {
+    auto it = std::find_if(targets_.begin(), targets_.end(),
+                           [&](const Target& t) { return t.id == current_.target; });
+    const int after = static_cast<int>(std::distance(targets_.begin(), it)) %
+                      static_cast<int>(targets_.size() - 1);
+    targets_.erase(it);
+    Follow(targets_[after], next->time_s, "lost", next);
+    return;
+  }
+  if (options_.fallback == LostFallback::kFullScan) {
+    next->mode = AttentionMode::kFullScan;
+    next->reason = "full_scan";
+    return;
+  }
+  // Saccade: the most salient region not visited in this search (and not where we are).
+  visited_.push_back(current_.fovea_m);
+  const auto unvisited = [&](const Eigen::Vector3f& p) {
+    return std::none_of(visited_.begin(), visited_.end(), [&](const Eigen::Vector3f& v) {
+      return (p - v).norm() < options_.saccade_region_m;
+    });
+  };
+  auto pick = std::find_if(salient.begin(), salient.end(), unvisited);
+  if (pick == salient.end() && !salient.empty()) {  // everything seen once: start over
+    visited_.assign(1, current_.fovea_m);
+    pick = std::find_if(salient.begin(), salient.end(), unvisited);
+  }
+  next->mode = AttentionMode::kSearching;
+  if (pick == salient.end()) {  // nothing salient at all: keep searching where we are
+    next->reason = "grow";
+    return;
+  }
+  saccading_ = true;
+  next->fovea_m = *pick;
+  next->growth_m = options_.growth_min_m;
+  next->reason = "saccade";
 }
 
 }  // namespace saccade

@@ -1,9 +1,11 @@
 // The attention loop of paper §3.4: the fovea jumps to the detected object; while the object
 // is lost the fovea's growth factor G grows each frame until it is found again, and past G_max
-// the configured fallback takes over. Pure: detections in, one Fixation per frame out.
+// the configured fallback takes over. Beyond the paper: several targets are visited in turn,
+// one per frame, and an optional constant-velocity predictor leads the fovea. Pure: sightings
+// in, one Fixation per frame out. Positions are in the camera frame, metres; times in seconds.
 #pragma once
 
-#include "core/types.h"
+#include <Eigen/Core>
 
 #include <cstdint>
 #include <string>
@@ -16,21 +18,54 @@ const char* ModeName(AttentionMode mode);
 
 /// One frame's fixation: where the next frame will be foveated, and why.
 struct Fixation {
-  std::int64_t frame_seq = 0;  // the frame whose detections produced this fixation
-  double time_s = 0;           // that frame's capture time
-  Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();  // camera frame
-  float growth_m = 0;                                 // G, applied on every axis
+  std::int64_t frame_seq = -1;  // the frame whose sightings produced this fixation
+  double time_s = 0;            // that frame's capture time; fovea_m is valid at this time
+  Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();
+  /// The followed target's velocity when the predictor is on, else zero.
+  Eigen::Vector3f velocity_mps = Eigen::Vector3f::Zero();
+  float growth_m = 0;  // G, applied on every axis
   AttentionMode mode = AttentionMode::kSearching;
-  int target = -1;     // index of the followed instance in the frame, -1 when none
-  std::string reason;  // "detected", "lost", "grow", "full_scan", "reset"
+  int target = -1;      // id of the followed target (stable across frames), -1 when none
+  int model = -1;       // that target's model index, -1 when none
+  int num_targets = 0;  // targets attention knows of
+  /// Why it is where it is: detected, alternate, lost, grow, full_scan, saccade, command, reset.
+  std::string reason;
+
+  /// Where to foveate a frame captured at `capture_time_s`: the fovea moved on by the velocity
+  /// for at most `max_horizon_s` (the predictor's lead; zero velocity: the fovea itself).
+  Eigen::Vector3f FoveaAt(double capture_time_s, double max_horizon_s) const;
 };
 
+/// A recognized instance as attention sees it.
+struct Sighting {
+  Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();
+  int model = 0;  // index of the model it is an instance of
+};
+
+enum class GrowthKind { kAdditive, kMultiplicative };
+enum class LostFallback { kFullScan, kSaccade };
+
 struct AttentionOptions {
-  float growth_min_m = 0.0f;       // G_min, used while tracking
-  float growth_max_m = 1.0f;       // G_max, after which the fallback takes over
-  float growth_step = 0.1f;        // metres added per lost frame, or the factor when multiplicative
-  bool multiplicative = false;     // G := max(G, step_floor) * growth_step instead of G + step
-  bool full_scan_fallback = true;  // past G_max: search the unfoveated frame
+  float growth_min_m = 0.0f;  // G_min, used while tracking (paper: 0)
+  float growth_max_m = 1.0f;  // G_max, after which the fallback takes over
+  /// Per lost frame: G += step (additive, metres) or G := max(G, growth_floor_m) * step
+  /// (multiplicative, a factor > 1).
+  GrowthKind growth_kind = GrowthKind::kAdditive;
+  float growth_step = 0.1f;
+  float growth_floor_m = 0.01f;  // where multiplicative growth starts from when G is 0
+  /// Past G_max: search the whole unfoveated frame, or jump to the most salient coarse region
+  /// not yet visited in this search (inhibition of return), one region per frame.
+  LostFallback fallback = LostFallback::kFullScan;
+  /// Two salient regions closer than this are the same region (inhibition of return), metres.
+  float saccade_region_m = 0.25f;
+  /// Targets visited in turn, one per frame; 1 follows one target as the paper does.
+  int max_targets = 1;
+  /// A sighting within this distance of where a target should be is that target, metres.
+  float same_target_m = 0.1f;
+  /// Constant-velocity predictor: off gives the paper's behaviour.
+  bool predict = false;
+  float predict_max_horizon_s = 0.2f;  // never lead the fovea by more than this
+  float velocity_smoothing = 0.5f;     // weight of the newest velocity estimate, (0, 1]
 
   bool IsValid(std::string* error) const;
 };
@@ -40,15 +75,40 @@ class Attention {
  public:
   Attention(const AttentionOptions& options, const Eigen::Vector3f& initial_fovea_m);
 
-  /// Digests one frame's detections (model->scene poses, centroids in the camera frame).
-  Fixation Update(std::int64_t frame_seq, double time_s, const std::vector<Detection>& detections);
-  /// Forgets the target: back to searching around `fovea_m` with G_min.
-  void Reset(const Eigen::Vector3f& fovea_m);
+  /// Digests one frame: its sightings (every model's instances) and, for the saccade fallback,
+  /// the salient regions of its coarse level, most salient first.
+  Fixation Update(std::int64_t frame_seq, double time_s, const std::vector<Sighting>& sightings,
+                  const std::vector<Eigen::Vector3f>& salient_regions = {});
+  /// Forgets every target: searching around `fovea_m` with G_min. `reason` goes in the record.
+  void Reset(const Eigen::Vector3f& fovea_m, const std::string& reason = "reset");
+  /// New options (a reloaded config); targets are kept, G is clamped into the new range.
+  void SetOptions(const AttentionOptions& options);
   const Fixation& current() const { return current_; }
+  const AttentionOptions& options() const { return options_; }
 
  private:
+  struct Target {
+    int id = 0;
+    int model = 0;
+    Eigen::Vector3f position_m = Eigen::Vector3f::Zero();  // at last_seen_s
+    Eigen::Vector3f velocity_mps = Eigen::Vector3f::Zero();
+    bool has_velocity = false;  // seen twice with the predictor on
+    double last_seen_s = 0;
+    Eigen::Vector3f PredictedAt(double time_s) const;
+  };
+
+  Target* Find(int id);
+  void Associate(double time_s, const std::vector<Sighting>& sightings, bool* attended_seen);
+  void See(Target* target, const Sighting& s, double time_s);
+  void Follow(const Target& target, double time_s, const char* reason, Fixation* next) const;
+  void Lost(const std::vector<Eigen::Vector3f>& salient, Fixation* next);
+
   AttentionOptions options_;
   Fixation current_;
+  std::vector<Target> targets_;  // by id, oldest first
+  int next_id_ = 0;
+  std::vector<Eigen::Vector3f> visited_;  // saccade fallback: regions seen in this search
+  bool saccading_ = false;                // the fallback is jumping between salient regions
 };
 
 }  // namespace saccade

@@ -2,52 +2,250 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 namespace saccade {
 namespace {
 
-Detection At(float x, float y, float z) {
-  Detection d;
-  d.centroid_m = Eigen::Vector3f(x, y, z);
-  return d;
+Sighting At(float x, float y, float z, int model = 0) {
+  return Sighting{Eigen::Vector3f(x, y, z), model};
 }
 
-TEST(Attention, FollowsTheDetectionNearestThePreviousFovea) {
+TEST(Attention, FollowsTheSightingNearestThePreviousFovea) {
   Attention a(AttentionOptions{}, Eigen::Vector3f(0, 0, 1));
   const Fixation f = a.Update(1, 0.0, {At(1, 0, 1), At(0.1f, 0, 1)});
   EXPECT_EQ(f.mode, AttentionMode::kTracking);
-  EXPECT_EQ(f.target, 1);
+  EXPECT_EQ(f.reason, "detected");
+  EXPECT_EQ(f.frame_seq, 1);
   EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0.1f, 0, 1)));
   EXPECT_EQ(f.growth_m, 0.0f);
+  // The next frame it keeps the same target, now near (1, 0, 1) no more: the nearer one wins.
+  const Fixation g = a.Update(2, 0.1, {At(0.9f, 0, 1), At(0.15f, 0, 1)});
+  EXPECT_EQ(g.target, f.target);
+  EXPECT_TRUE(g.fovea_m.isApprox(Eigen::Vector3f(0.15f, 0, 1)));
 }
 
-TEST(Attention, GrowsWhileLostThenFallsBackToFullScanAndRecovers) {
+TEST(Attention, GrowsAdditivelyWhileLostThenFallsBackToFullScanAndRecovers) {
   AttentionOptions o;
   o.growth_step = 0.25f;
   o.growth_max_m = 1.0f;
   Attention a(o, Eigen::Vector3f(0, 0, 1));
   a.Update(1, 0.0, {At(0.2f, 0, 1)});
-  float last = -1;
-  int frame = 2;
-  for (; frame < 6; ++frame) {
-    const Fixation f = a.Update(frame, 0.0, {});
+  const std::vector<float> expected = {0.25f, 0.5f, 0.75f, 1.0f};
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    const Fixation f = a.Update(2 + i, 0.0, {});
     EXPECT_EQ(f.mode, AttentionMode::kSearching);
-    EXPECT_GT(f.growth_m, last);
+    EXPECT_EQ(f.reason, i == 0 ? "lost" : "grow");
+    EXPECT_FLOAT_EQ(f.growth_m, expected[i]);
     EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0.2f, 0, 1)));  // stays where it was
-    last = f.growth_m;
   }
-  EXPECT_FLOAT_EQ(last, 1.0f);
-  EXPECT_EQ(a.Update(frame++, 0.0, {}).mode, AttentionMode::kFullScan);
-  const Fixation back = a.Update(frame, 0.0, {At(0.5f, 0, 1)});
+  EXPECT_EQ(a.Update(6, 0.0, {}).mode, AttentionMode::kFullScan);
+  EXPECT_EQ(a.Update(7, 0.0, {}).mode, AttentionMode::kFullScan);
+  const Fixation back = a.Update(8, 0.0, {At(0.5f, 0, 1)});
   EXPECT_EQ(back.mode, AttentionMode::kTracking);
   EXPECT_EQ(back.growth_m, 0.0f);
+  EXPECT_TRUE(back.fovea_m.isApprox(Eigen::Vector3f(0.5f, 0, 1)));
 }
 
-TEST(AttentionOptions, RejectsBadValues) {
+TEST(Attention, GrowsMultiplicativelyFromTheFloor) {
+  AttentionOptions o;
+  o.growth_kind = GrowthKind::kMultiplicative;
+  o.growth_step = 2.0f;
+  o.growth_floor_m = 0.05f;
+  o.growth_max_m = 0.3f;
+  Attention a(o, Eigen::Vector3f(0, 0, 1));
+  std::vector<float> g;
+  for (int i = 0; i < 4; ++i) g.push_back(a.Update(i, 0.0, {}).growth_m);
+  EXPECT_FLOAT_EQ(g[0], 0.1f);
+  EXPECT_FLOAT_EQ(g[1], 0.2f);
+  EXPECT_FLOAT_EQ(g[2], 0.3f);  // capped at G_max
+  EXPECT_EQ(a.current().mode, AttentionMode::kFullScan);
+}
+
+TEST(Attention, SaccadeFallbackVisitsSalientRegionsOnceEachMostSalientFirst) {
+  AttentionOptions o;
+  o.growth_step = 0.5f;
+  o.growth_max_m = 0.5f;
+  o.fallback = LostFallback::kSaccade;
+  const Eigen::Vector3f start(0, 0, 1);
+  Attention a(o, start);
+  const std::vector<Eigen::Vector3f> salient = {
+      Eigen::Vector3f(0.05f, 0, 1),  // where the fovea already is: not a new region
+      Eigen::Vector3f(0.5f, 0, 1), Eigen::Vector3f(-0.5f, 0, 1), Eigen::Vector3f(0.52f, 0, 1)};
+  EXPECT_EQ(a.Update(0, 0.0, {}, salient).reason, "grow");  // G: 0 -> 0.5 = G_max
+  std::vector<Eigen::Vector3f> visits;
+  for (int i = 1; i <= 3; ++i) {
+    const Fixation f = a.Update(i, 0.0, {}, salient);
+    EXPECT_EQ(f.reason, "saccade");
+    EXPECT_EQ(f.mode, AttentionMode::kSearching);
+    EXPECT_EQ(f.growth_m, 0.0f);
+    visits.push_back(f.fovea_m);
+  }
+  EXPECT_TRUE(visits[0].isApprox(salient[1]));
+  EXPECT_TRUE(visits[1].isApprox(salient[2]));
+  // Everything has been seen once: the search starts over, not at the region it stands on.
+  EXPECT_FALSE(visits[2].isApprox(visits[1]));
+  const Fixation found = a.Update(4, 0.0, {At(-0.4f, 0, 1)}, salient);
+  EXPECT_EQ(found.mode, AttentionMode::kTracking);
+  EXPECT_TRUE(found.fovea_m.isApprox(Eigen::Vector3f(-0.4f, 0, 1)));
+}
+
+TEST(Attention, AlternatesBetweenInstancesAndModelsOnePerFrame) {
+  AttentionOptions o;
+  o.max_targets = 3;
+  Attention a(o, Eigen::Vector3f(0, 0, 1));
+  const std::vector<Sighting> seen = {At(-0.3f, 0, 1, 0), At(0.3f, 0, 1, 0), At(0, 0, 1.5f, 1)};
+  Fixation f = a.Update(0, 0.0, seen);
+  EXPECT_EQ(f.num_targets, 3);
+  std::vector<int> order;
+  for (int i = 1; i <= 6; ++i) {
+    f = a.Update(i, i / 30.0, seen);
+    EXPECT_EQ(f.mode, AttentionMode::kTracking);
+    EXPECT_EQ(f.reason, "alternate");
+    order.push_back(f.target);
+  }
+  // Each target once in every three frames, in a fixed cycle.
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(order[i], order[i + 3]);
+  EXPECT_NE(order[0], order[1]);
+  EXPECT_NE(order[1], order[2]);
+  EXPECT_NE(order[0], order[2]);
+}
+
+TEST(Attention, GivesUpALostTargetAmongSeveralAndVisitsTheNext) {
+  AttentionOptions o;
+  o.max_targets = 2;
+  o.growth_step = 0.5f;
+  o.growth_max_m = 0.5f;
+  Attention a(o, Eigen::Vector3f(0, 0, 1));
+  a.Update(0, 0.0, {At(-0.3f, 0, 1), At(0.3f, 0, 1)});
+  const int followed = a.current().target;
+  const Sighting other = At(-a.current().fovea_m.x(), 0, 1);
+  // The followed target vanishes; the other stays visible but is not looked at.
+  const Fixation lost = a.Update(1, 0.0, {other});
+  EXPECT_EQ(lost.mode, AttentionMode::kSearching);
+  EXPECT_EQ(lost.target, followed);
+  const Fixation next = a.Update(2, 0.0, {other});  // G was at G_max: give it up
+  EXPECT_EQ(next.reason, "lost");
+  EXPECT_EQ(next.mode, AttentionMode::kTracking);
+  EXPECT_NE(next.target, followed);
+  EXPECT_EQ(next.num_targets, 1);
+  EXPECT_TRUE(next.fovea_m.isApprox(other.centroid_m));
+}
+
+TEST(Attention, PredictorLeadsAMovingTargetAndIsOffByDefault) {
+  const double dt = 1.0 / 30;
+  const Eigen::Vector3f v(0.3f, 0, 0.1f);
+  for (bool predict : {false, true}) {
+    AttentionOptions o;
+    o.predict = predict;
+    Attention a(o, Eigen::Vector3f(0, 0, 1));
+    Fixation f;
+    for (int i = 0; i < 10; ++i)
+      f = a.Update(i, i * dt, {Sighting{Eigen::Vector3f(0, 0, 1) + v * float(i * dt), 0}});
+    const Eigen::Vector3f truth_next = Eigen::Vector3f(0, 0, 1) + v * float(11 * dt);
+    const float error = (f.FoveaAt(11 * dt, o.predict_max_horizon_s) - truth_next).norm();
+    if (predict) {
+      EXPECT_TRUE(f.velocity_mps.isApprox(v, 1e-3f));
+      EXPECT_LT(error, 1e-3f);
+    } else {
+      EXPECT_EQ(f.velocity_mps, Eigen::Vector3f::Zero());
+      EXPECT_NEAR(error, (v * float(2 * dt)).norm(), 1e-4f);  // two frames behind
+    }
+  }
+}
+
+TEST(Attention, PredictorLeadIsCappedByItsHorizon) {
+  Fixation f;
+  f.time_s = 1.0;
+  f.fovea_m = Eigen::Vector3f(0, 0, 1);
+  f.velocity_mps = Eigen::Vector3f(1, 0, 0);
+  EXPECT_TRUE(f.FoveaAt(1.1, 0.2).isApprox(Eigen::Vector3f(0.1f, 0, 1)));
+  EXPECT_TRUE(f.FoveaAt(5.0, 0.2).isApprox(Eigen::Vector3f(0.2f, 0, 1)));
+  EXPECT_TRUE(f.FoveaAt(0.5, 0.2).isApprox(Eigen::Vector3f(0, 0, 1)));  // never backwards
+}
+
+// Over seeded random sequences of sightings, the record stays consistent with the rules.
+TEST(Attention, InvariantsHoldOverRandomSequences) {
+  for (unsigned seed = 1; seed <= 20; ++seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> pos(-1, 1);
+    AttentionOptions o;
+    o.growth_step = 0.1f;
+    o.growth_max_m = 0.6f;
+    o.max_targets = 1 + seed % 3;
+    o.predict = seed % 2;
+    o.fallback = seed % 4 < 2 ? LostFallback::kFullScan : LostFallback::kSaccade;
+    Attention a(o, Eigen::Vector3f(0, 0, 1));
+    Fixation previous = a.current();
+    for (int i = 0; i < 200; ++i) {
+      std::vector<Sighting> seen;
+      const int n = std::bernoulli_distribution(0.4)(rng) ? 1 + rng() % 3 : 0;
+      for (int k = 0; k < n; ++k) {
+        const int model = o.max_targets > 1 ? rng() % 2 : 0;
+        seen.push_back(At(pos(rng), pos(rng), 1 + pos(rng), model));
+      }
+      const Fixation f = a.Update(i, i / 30.0, seen, {Eigen::Vector3f(pos(rng), 0, 1)});
+      ASSERT_EQ(f.frame_seq, i);
+      ASSERT_GE(f.growth_m, o.growth_min_m);
+      ASSERT_LE(f.growth_m, o.growth_max_m);
+      ASSERT_LE(f.num_targets, o.max_targets);
+      if (f.mode == AttentionMode::kTracking) {
+        ASSERT_EQ(f.growth_m, o.growth_min_m);
+        ASSERT_GE(f.target, 0);
+      }
+      if (seen.empty() && f.reason == "grow") {
+        ASSERT_GE(f.growth_m, previous.growth_m);
+      }
+      if (o.max_targets == 1 && !seen.empty()) {  // one target of one model: any sighting is it
+        ASSERT_EQ(f.mode, AttentionMode::kTracking);
+      }
+      if (!o.predict) {
+        ASSERT_EQ(f.velocity_mps, Eigen::Vector3f::Zero());
+      }
+      previous = f;
+    }
+  }
+}
+
+TEST(Attention, ResetAndNewOptionsKeepTheRecordInRange) {
+  AttentionOptions o;
+  o.growth_step = 0.4f;
+  Attention a(o, Eigen::Vector3f(0, 0, 1));
+  a.Update(0, 0.0, {});
+  a.Update(1, 0.0, {});
+  EXPECT_FLOAT_EQ(a.current().growth_m, 0.8f);
+  o.growth_max_m = 0.5f;
+  a.SetOptions(o);
+  EXPECT_FLOAT_EQ(a.current().growth_m, 0.5f);
+  a.Update(2, 0.0, {At(0, 0, 1)});
+  a.Reset(Eigen::Vector3f(1, 0, 2), "command");
+  EXPECT_EQ(a.current().reason, "command");
+  EXPECT_EQ(a.current().mode, AttentionMode::kSearching);
+  EXPECT_EQ(a.current().target, -1);
+  EXPECT_EQ(a.current().num_targets, 0);
+  EXPECT_TRUE(a.current().fovea_m.isApprox(Eigen::Vector3f(1, 0, 2)));
+}
+
+TEST(AttentionOptions, RejectsBadValuesNamingTheField) {
+  const auto error_of = [](AttentionOptions o) {
+    std::string error;
+    EXPECT_FALSE(o.IsValid(&error));
+    return error;
+  };
   AttentionOptions o;
   o.growth_step = 0;
-  std::string error;
-  EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_NE(error.find("growth_step"), std::string::npos);
+  EXPECT_NE(error_of(o).find("growth_step"), std::string::npos);
+  o = AttentionOptions{};
+  o.growth_kind = GrowthKind::kMultiplicative;
+  o.growth_step = 0.5f;
+  EXPECT_NE(error_of(o).find("multiplicative"), std::string::npos);
+  o = AttentionOptions{};
+  o.max_targets = 0;
+  EXPECT_NE(error_of(o).find("max_targets"), std::string::npos);
+  o = AttentionOptions{};
+  o.growth_max_m = -1;
+  EXPECT_NE(error_of(o).find("growth_max_m"), std::string::npos);
+  EXPECT_TRUE(AttentionOptions{}.IsValid(nullptr));
 }
 
 }  // namespace
