@@ -203,21 +203,25 @@ std::optional<Scenario> ScenarioPreset(const std::string& name) {
   return s;
 }
 
-CrossCaptureCase MakeDemoCase(std::uint32_t seed, const CameraIntrinsics& intrinsics) {
+Cloud SyntheticTargetModel(std::uint32_t seed, const CameraIntrinsics& intrinsics) {
   Scenario capture = *ScenarioPreset("static");
   capture.seed = seed;
   capture.clutter.clear();  // the model is made from the target alone
   capture.target_motion.start_xz_m = {0.0f, 0.9f};
   capture.target_motion.yaw_rad = 0.35f;
+  const ScenarioFrame frame = RenderScenarioFrame(capture, 0, intrinsics);
+  return CutModel(frame.rendered, kTargetLabel, frame.truth.target_pose);
+}
+
+CrossCaptureCase MakeDemoCase(std::uint32_t seed, const CameraIntrinsics& intrinsics) {
   Scenario scene = *ScenarioPreset("static");
   scene.seed = seed + 1;
   scene.target_motion.start_xz_m = {0.05f, 0.95f};
   scene.target_motion.yaw_rad = 0.45f;
 
-  const ScenarioFrame model_frame = RenderScenarioFrame(capture, 0, intrinsics);
   ScenarioFrame scene_frame = RenderScenarioFrame(scene, 0, intrinsics);
   CrossCaptureCase c;
-  c.model = CutModel(model_frame.rendered, kTargetLabel, model_frame.truth.target_pose);
+  c.model = SyntheticTargetModel(seed, intrinsics);
   c.scene = std::move(scene_frame.rendered);
   c.truth = scene_frame.truth.target_pose;
   c.clutter_objects = static_cast<int>(scene.clutter.size());

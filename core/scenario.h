@@ -99,6 +99,10 @@ struct CrossCaptureCase {
   Eigen::Isometry3f truth = Eigen::Isometry3f::Identity();
   int clutter_objects = 0;
 };
+/// The synthetic target's model as a user would make it: the target alone, captured once by
+/// the synthetic Kinect (seeded) from its own viewpoint, cut out and expressed in its frame.
+Cloud SyntheticTargetModel(std::uint32_t seed, const CameraIntrinsics& intrinsics = {});
+
 CrossCaptureCase MakeDemoCase(std::uint32_t seed, const CameraIntrinsics& intrinsics = {});
 
 /// The centre of a shape's bounding box, in its own frame.

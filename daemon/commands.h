@@ -18,6 +18,8 @@ int Usage(std::ostream& err, const std::string& command, const std::string& mess
 int RunRecognize(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunBench(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunRecord(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int RunLogFixations(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int RunFixations(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunDemo(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
 }  // namespace saccade

@@ -19,6 +19,11 @@ commands:
             openni2://[#N|URI|SERIAL], PATH.oni[?mode=realtime|fast|step&loop=1],
             pcd:DIR[?rate=HZ&loop=1], depth:DIR[?intrinsics=FILE&rate=HZ&loop=1],
             synthetic:NAME[?frames=N&seed=S&rate=HZ&loop=1] (NAME: a preset or a YAML file)
+  log-fixations --out FILE.csv|FILE.jsonl [--channel SACCADE_FIXATION] [--lcm-url URL]
+            [--count N]
+            subscribe to saccaded's fixations and log them until SIGINT (or N of them)
+  fixations LOG.lcmlog --out FILE.csv|FILE.jsonl [--channel SACCADE_FIXATION]
+            convert the fixations in an lcm-logger log to the same format
   demo      [--seed N]
             render a synthetic Kinect scene and find in it a target modelled from another
             capture; exit 1 when the target is not found
@@ -39,6 +44,8 @@ int main(int argc, char** argv) {
   if (command == "recognize") return saccade::RunRecognize(args, std::cout, std::cerr);
   if (command == "bench") return saccade::RunBench(args, std::cout, std::cerr);
   if (command == "record") return saccade::RunRecord(args, std::cout, std::cerr);
+  if (command == "log-fixations") return saccade::RunLogFixations(args, std::cout, std::cerr);
+  if (command == "fixations") return saccade::RunFixations(args, std::cout, std::cerr);
   if (command == "demo") return saccade::RunDemo(args, std::cout, std::cerr);
   std::cerr << "saccade: unknown command '" << command << "' (see saccade --help)\n";
   return saccade::kExitUsage;

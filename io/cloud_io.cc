@@ -1,5 +1,9 @@
 #include "io/cloud_io.h"
 
+#include "core/scenario.h"
+
+#include <cstdio>
+
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/common/io.h>
 #include <pcl/console/print.h>
@@ -111,6 +115,21 @@ std::optional<Eigen::Matrix4f> LoadPose(const std::string& path, std::string* er
     return std::nullopt;
   }
   return pose;
+}
+
+std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error) {
+  const std::string synthetic = "synthetic:target";
+  if (spec.compare(0, synthetic.size(), synthetic) != 0) return LoadCloud(spec, error);
+  const std::string rest = spec.substr(synthetic.size());
+  unsigned seed = 1;
+  if (!rest.empty()) {
+    char tail = 0;
+    if (std::sscanf(rest.c_str(), "?seed=%u%c", &seed, &tail) != 1) {
+      *error = spec + ": expected synthetic:target or synthetic:target?seed=N";
+      return std::nullopt;
+    }
+  }
+  return SyntheticTargetModel(seed);
 }
 
 }  // namespace saccade

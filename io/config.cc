@@ -216,56 +216,111 @@ bool LoadScenario(const std::string& path, Scenario* scenario, std::string* erro
   return true;
 }
 
-bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, std::string* error) {
+ConfigKeys& ConfigKeys::Add(const std::string& key, Setter setter) {
+  setters[key] = std::move(setter);
+  return *this;
+}
+ConfigKeys& ConfigKeys::Add(const std::string& key, bool* f) { return Add(key, Scalar(f)); }
+ConfigKeys& ConfigKeys::Add(const std::string& key, int* f) { return Add(key, Scalar(f)); }
+ConfigKeys& ConfigKeys::Add(const std::string& key, unsigned* f) { return Add(key, Scalar(f)); }
+ConfigKeys& ConfigKeys::Add(const std::string& key, float* f) { return Add(key, Scalar(f)); }
+ConfigKeys& ConfigKeys::Add(const std::string& key, double* f) { return Add(key, Scalar(f)); }
+ConfigKeys& ConfigKeys::Add(const std::string& key, std::string* f) { return Add(key, Scalar(f)); }
+ConfigKeys& ConfigKeys::Add(const std::string& key, Eigen::Vector3f* f) {
+  return Add(key, Vector3(f));
+}
+ConfigKeys& ConfigKeys::Add(const std::string& key, Eigen::Quaternionf* f) {
+  return Add(key, Quaternion(f));
+}
+ConfigKeys& ConfigKeys::Add(const std::string& key, std::vector<std::string>* f) {
+  return Add(key, [f](const YAML::Node& n) {
+    if (n.IsScalar()) {
+      *f = {n.as<std::string>()};
+      return;
+    }
+    if (!n.IsSequence()) throw YAML::Exception(n.Mark(), "expected a string or a list of strings");
+    f->clear();
+    for (const auto& item : n) {
+      if (!item.IsScalar()) throw YAML::Exception(item.Mark(), "expected a string");
+      f->push_back(item.as<std::string>());
+    }
+  });
+}
+ConfigKeys& ConfigKeys::AddChoice(const std::string& key, int* f,
+                                  const std::vector<std::string>& names) {
+  return Add(key, [f, names](const YAML::Node& n) {
+    const std::string value = n.IsScalar() ? n.as<std::string>() : "";
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      if (names[i] == value) {
+        *f = static_cast<int>(i);
+        return;
+      }
+    }
+    std::string expected;
+    for (const auto& name : names) expected += (expected.empty() ? "" : " | ") + name;
+    throw YAML::Exception(n.Mark(), "expected " + expected);
+  });
+}
+
+ConfigKeys RecognitionKeys(RecognitionOptions* r) {
+  ConfigKeys k;
+  k.Add("scene_normal_neighbors", &r->scene_normal_neighbors)
+      .Add("scene_keypoint_radius_m", &r->scene_keypoint_radius_m)
+      .Add("scene_shot_radius_m", &r->scene_shot_radius_m)
+      .Add("scene_lrf_radius_m", &r->scene_lrf_radius_m)
+      .Add("model_normal_neighbors", &r->model_normal_neighbors)
+      .Add("model_keypoint_radius_m", &r->model_keypoint_radius_m)
+      .Add("model_shot_radius_m", &r->model_shot_radius_m)
+      .Add("model_lrf_radius_m", &r->model_lrf_radius_m)
+      .Add("max_descriptor_sqr_distance", &r->max_descriptor_sqr_distance)
+      .Add("hough_bin_m", &r->hough_bin_m)
+      .Add("hough_threshold", &r->hough_threshold)
+      .Add("pose_inlier_threshold_m", &r->pose_inlier_threshold_m)
+      .Add("max_described_density_m", &r->max_described_density_m)
+      .Add("match_branching", &r->match_branching)
+      .Add("match_checks", &r->match_checks)
+      .Add("match_seed", &r->match_seed);
+  return k;
+}
+
+ConfigKeys FoveaKeys(FoveaOptions* f) {
+  ConfigKeys k;
+  k.Add("levels_m", &f->levels_m)
+      .Add("outer_box_from_scene", &f->outer_box_from_scene)
+      .Add("outer_size_m", &f->outer_size_m)
+      .Add("outer_min_corner_m", &f->outer_min_corner_m)
+      .Add("outer_orientation", &f->outer_orientation)
+      .Add("inner_size_m", &f->inner_size_m)
+      .Add("growth_m", &f->growth_m)
+      .Add("density_0_m", &f->density_0_m)
+      .Add("density_m_m", &f->density_m_m)
+      .Add("keypoint_radius_0_m", &f->keypoint_radius_0_m)
+      .Add("keypoint_radius_m_m", &f->keypoint_radius_m_m);
+  return k;
+}
+
+bool ApplyConfigFile(const std::string& path, const ConfigKeys& top,
+                     const std::map<std::string, ConfigKeys>& sections, std::string* error) {
   YAML::Node root;
   if (!LoadRoot(path, &root, error)) return false;
-  if (root.IsNull()) return true;  // an empty file changes nothing
+  if (root.IsNull()) return true;
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    if (auto section = sections.find(key); section != sections.end()) {
+      if (!ApplySection(kv.second, key, section->second.setters, path, error)) return false;
+    } else if (!ApplyKey(top.setters, key, key, kv.second, path, error)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, std::string* error) {
   RecognitionOptions& r = config->recognition;
   FoveaOptions& f = config->fovea;
-  const std::map<std::string, Setter> recognition = {
-      {"scene_normal_neighbors", Scalar(&r.scene_normal_neighbors)},
-      {"scene_keypoint_radius_m", Scalar(&r.scene_keypoint_radius_m)},
-      {"scene_shot_radius_m", Scalar(&r.scene_shot_radius_m)},
-      {"scene_lrf_radius_m", Scalar(&r.scene_lrf_radius_m)},
-      {"model_normal_neighbors", Scalar(&r.model_normal_neighbors)},
-      {"model_keypoint_radius_m", Scalar(&r.model_keypoint_radius_m)},
-      {"model_shot_radius_m", Scalar(&r.model_shot_radius_m)},
-      {"model_lrf_radius_m", Scalar(&r.model_lrf_radius_m)},
-      {"max_descriptor_sqr_distance", Scalar(&r.max_descriptor_sqr_distance)},
-      {"hough_bin_m", Scalar(&r.hough_bin_m)},
-      {"hough_threshold", Scalar(&r.hough_threshold)},
-      {"pose_inlier_threshold_m", Scalar(&r.pose_inlier_threshold_m)},
-      {"max_described_density_m", Scalar(&r.max_described_density_m)},
-      {"match_branching", Scalar(&r.match_branching)},
-      {"match_checks", Scalar(&r.match_checks)},
-      {"match_seed", Scalar(&r.match_seed)},
-  };
-  const std::map<std::string, Setter> fovea = {
-      {"levels_m", Scalar(&f.levels_m)},
-      {"outer_box_from_scene", Scalar(&f.outer_box_from_scene)},
-      {"outer_size_m", Vector3(&f.outer_size_m)},
-      {"outer_min_corner_m", Vector3(&f.outer_min_corner_m)},
-      {"outer_orientation", Quaternion(&f.outer_orientation)},
-      {"inner_size_m", Vector3(&f.inner_size_m)},
-      {"growth_m", Vector3(&f.growth_m)},
-      {"density_0_m", Scalar(&f.density_0_m)},
-      {"density_m_m", Scalar(&f.density_m_m)},
-      {"keypoint_radius_0_m", Scalar(&f.keypoint_radius_0_m)},
-      {"keypoint_radius_m_m", Scalar(&f.keypoint_radius_m_m)},
-  };
-  for (const auto& kv : root) {
-    const std::string section = kv.first.as<std::string>();
-    bool ok;
-    if (section == "recognition")
-      ok = ApplySection(kv.second, section, recognition, path, error);
-    else if (section == "fovea")
-      ok = ApplySection(kv.second, section, fovea, path, error);
-    else {
-      *error = path + ": key '" + section + "': unknown key";
-      ok = false;
-    }
-    if (!ok) return false;
-  }
+  if (!ApplyConfigFile(path, ConfigKeys{},
+                       {{"recognition", RecognitionKeys(&r)}, {"fovea", FoveaKeys(&f)}}, error))
+    return false;
   std::string why;
   if (!r.IsValid(&why)) {
     *error = path + ": recognition: " + why;

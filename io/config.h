@@ -6,9 +6,46 @@
 #include "core/recognition.h"
 #include "core/scenario.h"
 
+#include <functional>
+#include <map>
 #include <string>
+#include <vector>
+
+namespace YAML {
+class Node;
+}
 
 namespace saccade {
+
+/// The keys of one YAML mapping, each bound to the field it sets; a setter throws on a wrong
+/// type. Built by the owner of the fields, applied by ApplyConfigFile.
+struct ConfigKeys {
+  using Setter = std::function<void(const YAML::Node&)>;
+  std::map<std::string, Setter> setters;
+
+  ConfigKeys& Add(const std::string& key, Setter setter);
+  ConfigKeys& Add(const std::string& key, bool* field);
+  ConfigKeys& Add(const std::string& key, int* field);
+  ConfigKeys& Add(const std::string& key, unsigned* field);
+  ConfigKeys& Add(const std::string& key, float* field);
+  ConfigKeys& Add(const std::string& key, double* field);
+  ConfigKeys& Add(const std::string& key, std::string* field);
+  ConfigKeys& Add(const std::string& key, Eigen::Vector3f* field);           // [x, y, z]
+  ConfigKeys& Add(const std::string& key, Eigen::Quaternionf* field);        // [w, x, y, z]
+  ConfigKeys& Add(const std::string& key, std::vector<std::string>* field);  // a list, or one
+  /// One of `names`; the field gets the index of the name.
+  ConfigKeys& AddChoice(const std::string& key, int* field, const std::vector<std::string>& names);
+};
+
+/// The keys of RecognitionOptions and FoveaOptions, as in configs/paper.yaml.
+ConfigKeys RecognitionKeys(RecognitionOptions* options);
+ConfigKeys FoveaKeys(FoveaOptions* options);
+
+/// Applies the file strictly: top-level keys from `top`, mappings from `sections`. False with
+/// `error` = "FILE: key 'a.b': reason" on an unknown key or a wrong type, and
+/// "FILE: line N: reason" when it is not YAML. An empty file changes nothing.
+bool ApplyConfigFile(const std::string& path, const ConfigKeys& top,
+                     const std::map<std::string, ConfigKeys>& sections, std::string* error);
 
 /// The recognition part of a configuration file:
 ///   recognition: { <RecognitionOptions fields> }

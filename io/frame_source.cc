@@ -129,6 +129,7 @@ class SequenceSource : public FrameSource {
       // A sensor's clock, not the reader's: wait for this frame's moment, then publish.
       due += std::chrono::duration_cast<Clock::duration>(period);
       std::this_thread::sleep_until(due);
+      item.frame.arrival_steady_ns = SteadyNowNs();
       mailbox_.Put(std::move(item));
     }
   }
@@ -457,6 +458,12 @@ std::unique_ptr<FrameSource> OpenSource(const std::string& text, std::string* er
   }
   if (!OnlyOptions(*spec, {}, error)) return nullptr;
   return OpenOpenNI2Device(spec->target, error);
+}
+
+std::int64_t SteadyNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
 }
 
 Cloud DepthToCloud(const std::uint16_t* depth_mm, const std::uint8_t* rgb,

@@ -20,10 +20,16 @@ struct Frame {
   /// Capture time in microseconds: the sensor's timestamp when it has one, else the
   /// sequence's own clock (synthetic: frame time; files: rate or file order), else wall time.
   std::int64_t capture_utime = 0;
+  /// Steady clock (SteadyNowNs) when the frame reached Saccade: latencies are measured from
+  /// here. Live sources set it when they post the frame; 0 until someone does.
+  std::int64_t arrival_steady_ns = 0;
   std::shared_ptr<const Cloud> cloud;
   CameraIntrinsics intrinsics;
   std::optional<GroundTruth> truth;  // synthetic frames and recordings that carry it
 };
+
+/// Nanoseconds on the monotonic clock, for latencies.
+std::int64_t SteadyNowNs();
 
 /// What a source is doing, for the daemon's status.
 struct SourceStats {

@@ -192,6 +192,7 @@ class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameL
     last_index_ = ref.getFrameIndex();
     item.ok = ToFrame(ref, intrinsics_, &item.frame, &item.error);
     item.frame.sequence = sequence_++;
+    item.frame.arrival_steady_ns = SteadyNowNs();
     ++produced_;
     return item;
   }

@@ -1,0 +1,127 @@
+// saccaded: the tracking service. Frames in, detections and fixations out over LCM.
+#include "daemon/args.h"
+#include "daemon/notify.h"
+#include "daemon/settings.h"
+#include "daemon/signals.h"
+#include "daemon/tracker.h"
+#include "io/log.h"
+
+#include <signal.h>
+
+#include <iostream>
+#include <mutex>
+
+namespace {
+
+constexpr const char* kUsage =
+    R"(usage: saccaded [--config FILE.yaml] [--source SPEC] [--model M.pcd]
+                [--lcm-url URL]
+
+Tracks a known object in a depth stream and publishes, per frame, its detections and the
+attention loop's fixation over LCM (docs/LCM.md). Without --config the paper's defaults apply;
+the flags override the file. SIGTERM/SIGINT: finish the frames in flight and exit 0. SIGHUP:
+reload the config file (a bad one is reported and the running one kept).
+
+exit codes: 0 stopped cleanly or the source ended, 1 the source, a model or LCM failed,
+            2 bad usage or configuration
+)";
+
+constexpr int kExitOk = 0, kExitFailure = 1, kExitUsage = 2;
+
+// The file, then the flags over it.
+bool LoadSettings(const saccade::Args& args, saccade::DaemonSettings* settings,
+                  std::string* error) {
+  saccade::DaemonSettings s = saccade::PaperDefaults();
+  if (args.Has("config") && !saccade::LoadDaemonSettings(args.Get("config"), &s, error))
+    return false;
+  if (args.Has("source")) s.source = args.Get("source");
+  if (args.Has("model")) s.models = {args.Get("model")};
+  if (args.Has("lcm-url")) s.bus.url = args.Get("lcm-url");
+  if (s.models.empty()) {
+    *error = "no model: set 'model' in the config file or pass --model";
+    return false;
+  }
+  if (!s.IsValid(error)) return false;
+  *settings = s;
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace saccade;
+  const std::vector<std::string> argv_list(argv + 1, argv + argc);
+  Args args;
+  std::string error;
+  if (!args.Parse(argv_list, {"config", "source", "model", "lcm-url"}, {"help"}, &error)) {
+    std::cerr << "saccaded: " << error << " (see saccaded --help)\n";
+    return kExitUsage;
+  }
+  if (args.Has("help")) {
+    std::cout << kUsage;
+    return kExitOk;
+  }
+  DaemonSettings settings;
+  if (!LoadSettings(args, &settings, &error)) {
+    std::cerr << "saccaded: error: " << error << "\n";
+    return kExitUsage;
+  }
+  LogLevel level = LogLevel::kInfo;
+  ParseLogLevel(settings.log_level, &level);
+  ConfigureLog("saccaded", level);
+
+  // Signals are turned into calls here before any thread starts, so every thread inherits
+  // the mask and only the waiter's thread sees them.
+  std::mutex tracker_mutex;
+  Tracker* tracker = nullptr;  // guarded by tracker_mutex
+  bool stop_requested = false;
+  SignalWaiter signals([&](int signo) {
+    std::lock_guard<std::mutex> lock(tracker_mutex);
+    if (signo == SIGHUP) {
+      if (!tracker) return;
+      SystemdNotify("RELOADING=1");
+      DaemonSettings next;
+      std::string why;
+      if (!LoadSettings(args, &next, &why) || !tracker->Reload(next, &why))
+        Log(LogLevel::kError, "reload failed, keeping the running configuration: " + why);
+      else
+        Log(LogLevel::kInfo, "reloaded " + args.Get("config", "the defaults"));
+      SystemdNotify("READY=1");
+      return;
+    }
+    Log(LogLevel::kInfo, std::string("signal ") + (signo == SIGINT ? "SIGINT" : "SIGTERM") +
+                             ": finishing the frames in flight");
+    SystemdNotify("STOPPING=1");
+    stop_requested = true;
+    if (tracker) tracker->Stop();
+  });
+
+  const bool watchdog = SystemdWatchdogEnabled();
+  auto created = Tracker::Create(
+      settings,
+      [watchdog](bool progressing) {
+        if (watchdog && progressing) SystemdNotify("WATCHDOG=1");
+      },
+      &error);
+  if (!created) {
+    Log(LogLevel::kError, error);
+    return kExitFailure;
+  }
+  {
+    std::lock_guard<std::mutex> lock(tracker_mutex);
+    tracker = created.get();
+    if (stop_requested) tracker->Stop();
+  }
+  SystemdNotify("READY=1");
+  const bool ok = created->Run(&error);
+  {
+    std::lock_guard<std::mutex> lock(tracker_mutex);
+    tracker = nullptr;
+  }
+  if (!ok) {
+    Log(LogLevel::kError, error);
+    return kExitFailure;
+  }
+  Log(LogLevel::kInfo, "stopped");
+  return kExitOk;
+}

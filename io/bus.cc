@@ -1,0 +1,232 @@
+#include "io/bus.h"
+
+#include "io/log.h"
+
+#include <poll.h>
+#include <unistd.h>
+#include <lcm/lcm-cpp.hpp>
+#include <saccade/command_t.hpp>
+#include <saccade/detections_t.hpp>
+#include <saccade/fixation_t.hpp>
+#include <saccade/status_t.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+namespace saccade {
+
+std::string DetectionsChannel(const std::string& prefix) { return prefix + "_DETECTIONS"; }
+std::string FixationChannel(const std::string& prefix) { return prefix + "_FIXATION"; }
+std::string StatusChannel(const std::string& prefix) { return prefix + "_STATUS"; }
+std::string CommandChannel(const std::string& prefix) { return prefix + "_COMMAND"; }
+
+namespace {
+
+std::int64_t WallUtime() {
+  using namespace std::chrono;
+  return duration_cast<microseconds>(system_clock::now().time_since_epoch()).count();
+}
+
+template <typename Vec>
+void Copy3(const Vec& v, double out[3]) {
+  for (int i = 0; i < 3; ++i) out[i] = v[i];
+}
+
+class LcmBus : public Bus {
+ public:
+  LcmBus(const BusOptions& options, std::unique_ptr<lcm::LCM> lcm, CommandHandler on_command)
+      : options_(options), lcm_(std::move(lcm)), on_command_(std::move(on_command)) {
+    frame_name_ = options_.to_robot_frame ? options_.robot_frame : "camera";
+    X_RC_ = options_.to_robot_frame ? options_.robot_from_camera : Eigen::Isometry3f::Identity();
+  }
+
+  bool StartCommands(std::string* error) {
+    if (pipe(wake_) != 0) {
+      *error = "cannot create the command thread's wake pipe";
+      return false;
+    }
+    lcm_->subscribe(CommandChannel(options_.channel_prefix), &LcmBus::OnCommand, this);
+    receiver_ = std::thread([this] { Receive(); });
+    return true;
+  }
+
+  ~LcmBus() override {
+    if (receiver_.joinable()) {
+      stop_ = true;
+      const char byte = 0;
+      [[maybe_unused]] const auto n = write(wake_[1], &byte, 1);
+      receiver_.join();
+      close(wake_[0]);
+      close(wake_[1]);
+    }
+  }
+
+  bool Publish(const FrameReport& frame, const FixationReport& fixation) override {
+    saccade::detections_t d;
+    d.utime = frame.capture_utime;
+    d.seq = frame.seq;
+    d.publish_utime = WallUtime();
+    d.frame = frame_name_;
+    d.foveated = frame.foveated;
+    Copy3(X_RC_ * frame.fovea_m, d.fovea);
+    d.growth = frame.growth_m;
+    d.fixation_seq = frame.fixation_seq;
+    d.recognize_ms = frame.recognize_ms;
+    for (const InstanceReport& r : frame.instances) {
+      saccade::instance_t i;
+      i.utime = frame.capture_utime;
+      i.model = r.model;
+      i.model_name = r.model_name;
+      const Eigen::Isometry3f X_RM = X_RC_ * Eigen::Isometry3f(r.camera_from_model);
+      Copy3(X_RM.translation(), i.trans);
+      const Eigen::Quaternionf q(X_RM.rotation());
+      i.quat[0] = q.w(), i.quat[1] = q.x(), i.quat[2] = q.y(), i.quat[3] = q.z();
+      Copy3(X_RC_ * r.centroid_m, i.centroid);
+      i.votes = r.votes;
+      d.instances.push_back(i);
+    }
+    d.num_instances = static_cast<std::int32_t>(d.instances.size());
+
+    saccade::fixation_t f;
+    f.utime = fixation.capture_utime;
+    f.seq = fixation.seq;
+    f.frame = frame_name_;
+    Copy3(X_RC_ * fixation.fovea_m, f.fovea);
+    Copy3(X_RC_.linear() * fixation.velocity_mps, f.velocity);
+    f.growth = fixation.growth_m;
+    f.mode = static_cast<std::int8_t>(fixation.mode);
+    f.mode_name = fixation.mode_name;
+    f.target = fixation.target;
+    f.model = fixation.model;
+    f.num_targets = fixation.num_targets;
+    f.reason = fixation.reason;
+
+    std::lock_guard<std::mutex> lock(publish_mutex_);
+    const bool ok = lcm_->publish(DetectionsChannel(options_.channel_prefix), &d) == 0;
+    return lcm_->publish(FixationChannel(options_.channel_prefix), &f) == 0 && ok;
+  }
+
+  bool PublishStatus(const StatusReport& s) override {
+    saccade::status_t m;
+    m.utime = WallUtime();
+    m.uptime_s = s.uptime_s;
+    m.source = s.source;
+    m.source_state = s.source_state;
+    m.paused = s.paused;
+    m.frames_in = s.frames_in;
+    m.frames_processed = s.frames_processed;
+    m.frames_dropped = s.frames_dropped;
+    m.source_reconnects = s.source_reconnects;
+    m.fps = s.fps;
+    m.commands_accepted = s.commands_accepted;
+    m.commands_rejected = s.commands_rejected;
+    m.fixation_lag_max = s.fixation_lag_max;
+    m.mode = static_cast<std::int8_t>(s.mode);
+    for (const LatencyReport& l : s.stages) {
+      saccade::stage_latency_t st;
+      st.utime = m.utime;
+      st.name = l.name;
+      st.samples = l.samples;
+      st.p50_ms = l.p50_ms, st.p90_ms = l.p90_ms, st.p99_ms = l.p99_ms, st.max_ms = l.max_ms;
+      m.stages.push_back(st);
+    }
+    m.num_stages = static_cast<std::int32_t>(m.stages.size());
+    std::lock_guard<std::mutex> lock(publish_mutex_);
+    return lcm_->publish(StatusChannel(options_.channel_prefix), &m) == 0;
+  }
+
+  std::int64_t AcceptedCommands() const override { return accepted_; }
+  std::int64_t RejectedCommands() const override { return rejected_; }
+
+  std::string Describe() const override {
+    return options_.url + " (channels " + options_.channel_prefix + "_*, commands " +
+           (options_.commands ? "on" : "off") + ")";
+  }
+
+ private:
+  void Receive() {
+    pollfd fds[2] = {{lcm_->getFileno(), POLLIN, 0}, {wake_[0], POLLIN, 0}};
+    while (!stop_) {
+      if (poll(fds, 2, -1) < 0) continue;  // EINTR
+      if (fds[0].revents & POLLIN) lcm_->handle();
+    }
+  }
+
+  void Reject(const std::string& why) {
+    ++rejected_;
+    Log(LogLevel::kWarning,
+        "command rejected on " + CommandChannel(options_.channel_prefix) + ": " + why);
+  }
+
+  void OnCommand(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
+    saccade::command_t m;
+    if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0)
+      return Reject("malformed message (" + std::to_string(rbuf->data_size) +
+                    " bytes that do not decode as saccade.command_t)");
+    Command c;
+    switch (m.kind) {
+      case saccade::command_t::SET_FOVEA: {
+        const Eigen::Vector3f p(static_cast<float>(m.fovea[0]), static_cast<float>(m.fovea[1]),
+                                static_cast<float>(m.fovea[2]));
+        if (!p.allFinite()) return Reject("SET_FOVEA with a non-finite fovea");
+        c.fovea_m = X_RC_.inverse() * p;
+        if (c.fovea_m.norm() > options_.max_fovea_distance_m)
+          return Reject("SET_FOVEA farther than " + std::to_string(options_.max_fovea_distance_m) +
+                        " m from the camera");
+        c.kind = Command::Kind::kSetFovea;
+        break;
+      }
+      case saccade::command_t::RESET:
+        c.kind = Command::Kind::kReset;
+        break;
+      case saccade::command_t::SWITCH_MODEL:
+        if (m.model.empty()) return Reject("SWITCH_MODEL without a model");
+        c.kind = Command::Kind::kSwitchModel;
+        c.model = m.model;
+        break;
+      case saccade::command_t::PAUSE:
+        c.kind = Command::Kind::kPause;
+        break;
+      case saccade::command_t::RESUME:
+        c.kind = Command::Kind::kResume;
+        break;
+      default:
+        return Reject("unknown kind " + std::to_string(m.kind));
+    }
+    std::string why;
+    if (!on_command_(c, &why)) return Reject(why);
+    ++accepted_;
+  }
+
+  const BusOptions options_;
+  std::unique_ptr<lcm::LCM> lcm_;
+  std::string frame_name_;
+  Eigen::Isometry3f X_RC_;
+  std::mutex publish_mutex_;
+  CommandHandler on_command_;
+  std::atomic<std::int64_t> accepted_{0};
+  std::atomic<std::int64_t> rejected_{0};
+  std::atomic<bool> stop_{false};
+  int wake_[2] = {-1, -1};
+  std::thread receiver_;
+};
+
+}  // namespace
+
+std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, CommandHandler on_command,
+                                std::string* error) {
+  auto lcm = std::make_unique<lcm::LCM>(options.url);
+  if (!lcm->good()) {
+    *error = "cannot open LCM at '" + options.url +
+             "' (a malformed URL, or no multicast route: see docs/LCM.md)";
+    return nullptr;
+  }
+  auto bus = std::make_unique<LcmBus>(options, std::move(lcm), std::move(on_command));
+  if (options.commands && !bus->StartCommands(error)) return nullptr;
+  return bus;
+}
+
+}  // namespace saccade

@@ -1,0 +1,127 @@
+#include "io/fixation_log.h"
+
+#include "io/json.h"
+
+#include <lcm/lcm-cpp.hpp>
+#include <saccade/fixation_t.hpp>
+
+#include <iomanip>
+#include <ostream>
+
+namespace saccade {
+
+bool DecodeFixation(const void* data, std::size_t size, FixationRecord* r) {
+  saccade::fixation_t m;
+  if (m.decode(data, 0, static_cast<int>(size)) < 0) return false;
+  r->utime = m.utime;
+  r->seq = m.seq;
+  r->frame = m.frame;
+  for (int i = 0; i < 3; ++i) r->fovea[i] = m.fovea[i], r->velocity[i] = m.velocity[i];
+  r->growth = m.growth;
+  r->mode = m.mode;
+  r->mode_name = m.mode_name;
+  r->target = m.target;
+  r->model = m.model;
+  r->num_targets = m.num_targets;
+  r->reason = m.reason;
+  return true;
+}
+
+bool FixationWriter::FormatOf(const std::string& path, Format* format, std::string* error) {
+  const auto ends_with = [&](const std::string& suffix) {
+    return path.size() >= suffix.size() &&
+           path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (ends_with(".csv")) {
+    *format = Format::kCsv;
+  } else if (ends_with(".jsonl")) {
+    *format = Format::kJsonl;
+  } else {
+    *error = "'" + path + "': the output must end in .csv or .jsonl";
+    return false;
+  }
+  return true;
+}
+
+FixationWriter::FixationWriter(std::ostream& out, Format format) : out_(out), format_(format) {
+  if (format_ == Format::kCsv)
+    out_ << "utime,seq,frame,fovea_x,fovea_y,fovea_z,velocity_x,velocity_y,velocity_z,growth,"
+            "mode,target,model,num_targets,reason\n";
+}
+
+void FixationWriter::Write(const FixationRecord& r) {
+  if (format_ == Format::kCsv) {
+    out_ << r.utime << ',' << r.seq << ',' << r.frame << std::setprecision(9);
+    for (double v : r.fovea) out_ << ',' << v;
+    for (double v : r.velocity) out_ << ',' << v;
+    out_ << ',' << r.growth << ',' << r.mode_name << ',' << r.target << ',' << r.model << ','
+         << r.num_targets << ',' << r.reason << '\n';
+  } else {
+    JsonWriter j;
+    j.BeginObject().Key("utime").Value(static_cast<long long>(r.utime));
+    j.Key("seq").Value(static_cast<long long>(r.seq)).Key("frame").Value(r.frame);
+    j.Key("fovea").BeginArray();
+    for (double v : r.fovea) j.Value(v);
+    j.EndArray().Key("velocity").BeginArray();
+    for (double v : r.velocity) j.Value(v);
+    j.EndArray().Key("growth").Value(r.growth).Key("mode").Value(r.mode_name);
+    j.Key("target").Value(r.target).Key("model").Value(r.model);
+    j.Key("num_targets").Value(r.num_targets).Key("reason").Value(r.reason).EndObject();
+    out_ << j.str() << '\n';
+  }
+  out_.flush();
+}
+
+bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
+                        FixationWriter* writer, FixationLogStats* stats, std::string* error) {
+  lcm::LogFile log(log_path, "r");
+  if (!log.good()) {
+    *error = "'" + log_path + "': cannot read it as an LCM log";
+    return false;
+  }
+  while (const lcm::LogEvent* e = log.readNextEvent()) {
+    if (e->channel != channel) continue;
+    FixationRecord r;
+    if (DecodeFixation(e->data, static_cast<std::size_t>(e->datalen), &r)) {
+      writer->Write(r);
+      ++stats->written;
+    } else {
+      ++stats->skipped;
+    }
+  }
+  return true;
+}
+
+namespace {
+
+struct Listener {
+  FixationWriter* writer;
+  FixationLogStats* stats;
+  void On(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    FixationRecord r;
+    if (DecodeFixation(rbuf->data, rbuf->data_size, &r)) {
+      writer->Write(r);
+      ++stats->written;
+    } else {
+      ++stats->skipped;
+    }
+  }
+};
+
+}  // namespace
+
+bool ListenFixations(const std::string& url, const std::string& channel, FixationWriter* writer,
+                     std::int64_t max_records, const std::atomic<bool>& stop,
+                     FixationLogStats* stats, std::string* error) {
+  lcm::LCM lcm(url);
+  if (!lcm.good()) {
+    *error = "cannot open LCM at '" + url + "'";
+    return false;
+  }
+  Listener listener{writer, stats};
+  lcm.subscribe(channel, &Listener::On, &listener);
+  while (!stop && (max_records <= 0 || stats->written < max_records)) lcm.handleTimeout(200);
+  return true;
+}
+
+}  // namespace saccade

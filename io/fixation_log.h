@@ -1,0 +1,64 @@
+// The attention log for users: fixation_t messages as CSV or JSON lines, live from LCM
+// (`saccade log-fixations`) or from an lcm-logger file (`saccade fixations`).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <string>
+
+namespace saccade {
+
+/// One decoded fixation_t (fields and units as in io/lcmtypes/fixation_t.lcm).
+struct FixationRecord {
+  std::int64_t utime = 0;
+  std::int64_t seq = 0;
+  std::string frame;
+  double fovea[3] = {0, 0, 0};
+  double velocity[3] = {0, 0, 0};
+  double growth = 0;
+  int mode = 0;
+  std::string mode_name;
+  int target = -1;
+  int model = -1;
+  int num_targets = 0;
+  std::string reason;
+};
+
+/// Decodes one fixation_t message; false when the bytes are not one.
+bool DecodeFixation(const void* data, std::size_t size, FixationRecord* record);
+
+/// Writes records as CSV (with a header line) or JSON lines, chosen by the file name.
+class FixationWriter {
+ public:
+  enum class Format { kCsv, kJsonl };
+  /// .csv or .jsonl; false with `error` for any other name.
+  static bool FormatOf(const std::string& path, Format* format, std::string* error);
+  FixationWriter(std::ostream& out, Format format);
+  void Write(const FixationRecord& record);
+
+ private:
+  std::ostream& out_;
+  Format format_;
+};
+
+/// What a conversion did.
+struct FixationLogStats {
+  std::int64_t written = 0;
+  std::int64_t skipped = 0;  // messages on the channel that did not decode
+};
+
+/// Writes every message of `channel` in an lcm-logger log. False with `error` when the log
+/// cannot be read.
+bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
+                        FixationWriter* writer, FixationLogStats* stats, std::string* error);
+
+/// Subscribes to `channel` at `url` and writes each fixation until `stop` is set (checked at
+/// least every 200 ms) or `max_records` are written (0: no limit). False with `error` when LCM
+/// cannot be opened.
+bool ListenFixations(const std::string& url, const std::string& channel, FixationWriter* writer,
+                     std::int64_t max_records, const std::atomic<bool>& stop,
+                     FixationLogStats* stats, std::string* error);
+
+}  // namespace saccade
