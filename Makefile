@@ -17,8 +17,10 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
+# saccaded on the synthetic Kinect: a target that moves, hides and comes back, over LCM.
 demo: build
-	@$(BUILD_DIR)/daemon/saccade demo
+	@./scripts/multicast-route.sh
+	@$(BUILD_DIR)/daemon/saccaded --config configs/demo.yaml
 
 test: build
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)

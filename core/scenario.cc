@@ -115,14 +115,19 @@ Eigen::Vector3f ShapeCentre(const Shape& shape) {
   return (b.min + b.max) / 2;
 }
 
+Eigen::Isometry3f ScenarioTargetPose(const Scenario& sc, int index) {
+  const double t = index / sc.rate_hz;
+  const Eigen::Vector2f xz = sc.target_motion.PositionAt(t);
+  return CameraPose(sc.camera_motion, t).inverse() *
+         PoseOnTable(xz.x(), xz.y(), sc.target_motion.YawAt(t), sc.table_height_m,
+                     sc.target_bottom_y_m);
+}
+
 ScenarioFrame RenderScenarioFrame(const Scenario& sc, int index, const CameraIntrinsics& k) {
   ScenarioFrame out;
   out.time_s = index / sc.rate_hz;
   const Eigen::Isometry3f X_CW = CameraPose(sc.camera_motion, out.time_s).inverse();
-  const Eigen::Vector2f target_xz = sc.target_motion.PositionAt(out.time_s);
-  const Eigen::Isometry3f X_CO =
-      X_CW * PoseOnTable(target_xz.x(), target_xz.y(), sc.target_motion.YawAt(out.time_s),
-                         sc.table_height_m, sc.target_bottom_y_m);
+  const Eigen::Isometry3f X_CO = ScenarioTargetPose(sc, index);
   std::vector<SceneObject> objects = {{sc.target, X_CO, kTargetLabel}};
   std::size_t shown = sc.clutter.size();
   if (sc.clutter_grows) shown = std::min<std::size_t>(index, sc.clutter.size());

@@ -80,6 +80,9 @@ struct ScenarioFrame {
   double time_s = 0.0;
 };
 
+/// The target's true pose X_CO in frame `index` (no rendering: cheap for checking a run).
+Eigen::Isometry3f ScenarioTargetPose(const Scenario& scenario, int index);
+
 /// Renders frame `index` (0 <= index < scenario.frames) of a valid scenario.
 ScenarioFrame RenderScenarioFrame(const Scenario& scenario, int index,
                                   const CameraIntrinsics& intrinsics = {});

@@ -42,7 +42,8 @@ std::optional<int> LoadInputs(const Args& args, const std::string& command, Inpu
   }
   for (const char* name : {"model", "scene"}) {
     if (!args.Has(name)) return Usage(err, command, std::string("missing --") + name);
-    auto cloud = LoadCloud(args.Get(name), &error);
+    auto cloud = std::string(name) == "model" ? LoadModelCloud(args.Get(name), &error)
+                                              : LoadCloud(args.Get(name), &error);
     if (!cloud) {
       err << "saccade " << command << ": " << error << "\n";
       return kExitFailure;

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <mutex>
 #include <thread>
 
@@ -173,9 +174,13 @@ class LcmBus : public Bus {
                                 static_cast<float>(m.fovea[2]));
         if (!p.allFinite()) return Reject("SET_FOVEA with a non-finite fovea");
         c.fovea_m = X_RC_.inverse() * p;
-        if (c.fovea_m.norm() > options_.max_fovea_distance_m)
-          return Reject("SET_FOVEA farther than " + std::to_string(options_.max_fovea_distance_m) +
-                        " m from the camera");
+        if (c.fovea_m.norm() > options_.max_fovea_distance_m) {
+          char why[128];
+          std::snprintf(why, sizeof why,
+                        "SET_FOVEA out of range: %.2f m from the camera, more than %.2f m",
+                        c.fovea_m.norm(), options_.max_fovea_distance_m);
+          return Reject(why);
+        }
         c.kind = Command::Kind::kSetFovea;
         break;
       }

@@ -15,11 +15,14 @@ template <typename T>
 class LatestMailbox {
  public:
   /// Stores `value`, replacing (and counting as dropped) one not yet taken. Never blocks for
-  /// longer than the lock. Ignored once closed.
+  /// longer than the lock. Once closed, the value is dropped (and counted).
   void Put(T value) {
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (closed_) return;
+      if (closed_) {
+        ++dropped_;
+        return;
+      }
       if (slot_) ++dropped_;
       slot_ = std::move(value);
     }
@@ -44,11 +47,12 @@ class LatestMailbox {
     ready_.notify_all();
   }
 
-  /// Drops the stored value too (an immediate stop).
+  /// Drops (and counts) the stored value too: an immediate stop.
   void CloseAndClear() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       closed_ = true;
+      if (slot_) ++dropped_;
       slot_.reset();
     }
     ready_.notify_all();

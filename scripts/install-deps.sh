@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  cmake make g++ pkg-config ccache
+  cmake make g++ pkg-config ccache iproute2
   libpcl-dev libeigen3-dev libflann-dev
   libopenni2-dev
   liblcm-dev liblcm-bin libglib2.0-dev

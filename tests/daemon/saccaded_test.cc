@@ -1,0 +1,479 @@
+// saccaded end to end: the real binary, real LCM over UDP multicast on this host (ttl=0), and
+// Debian's lcm-logger as the subscriber whose log the assertions read.
+#include "core/scenario.h"
+#include "io/config.h"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <lcm/lcm-cpp.hpp>
+#include <saccade/command_t.hpp>
+#include <saccade/detections_t.hpp>
+#include <saccade/fixation_t.hpp>
+#include <saccade/status_t.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <thread>
+
+extern char** environ;
+
+namespace saccade {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kSaccaded = SACCADED_BINARY;
+const std::string kSaccade = SACCADE_BINARY;
+const std::string kSourceDir = SACCADE_SOURCE_DIR;
+
+// A per-process folder and multicast port, so ctest -j runs do not hear each other.
+struct Sandbox {
+  fs::path dir = fs::temp_directory_path() / ("saccaded_test_" + std::to_string(getpid()));
+  std::string url = "udpm://239.255.76.67:" + std::to_string(7700 + getpid() % 250) + "?ttl=0";
+  Sandbox() { fs::create_directories(dir); }
+  ~Sandbox() { fs::remove_all(dir); }
+  std::string Path(const std::string& name) const { return (dir / name).string(); }
+};
+
+// Starts a program with stdout and stderr to files; returns its pid.
+pid_t Spawn(const std::vector<std::string>& argv, const std::string& out, const std::string& err,
+            const std::vector<std::string>& extra_env = {}) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  std::vector<std::string> env_strings(extra_env);
+  for (char** e = environ; *e; ++e) env_strings.push_back(*e);
+  std::vector<char*> env;
+  for (auto& e : env_strings) env.push_back(e.data());
+  env.push_back(nullptr);
+  pid_t pid = -1;
+  const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), env.data());
+  posix_spawn_file_actions_destroy(&actions);
+  EXPECT_EQ(rc, 0) << "cannot start " << argv[0];
+  return pid;
+}
+
+struct Exit {
+  int code = -1;
+  long max_rss_kb = 0;
+};
+Exit Wait(pid_t pid) {
+  int status = 0;
+  rusage usage{};
+  wait4(pid, &status, 0, &usage);
+  Exit e;
+  e.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  e.max_rss_kb = usage.ru_maxrss;
+  return e;
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Polls `done` until it holds or a generous deadline passes (a condition, not a timing).
+bool WaitFor(const std::function<bool()>& done, double seconds = 120) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return true;
+}
+
+struct LogEvents {
+  std::vector<saccade::detections_t> detections;
+  std::vector<saccade::fixation_t> fixations;
+  std::vector<saccade::status_t> statuses;
+  int probes = 0;
+};
+
+LogEvents ReadLog(const std::string& path) {
+  LogEvents out;
+  lcm::LogFile log(path, "r");
+  if (!log.good()) return out;
+  while (const lcm::LogEvent* e = log.readNextEvent()) {
+    if (e->channel == "SACCADE_DETECTIONS") {
+      saccade::detections_t m;
+      if (m.decode(e->data, 0, e->datalen) >= 0) out.detections.push_back(m);
+    } else if (e->channel == "SACCADE_FIXATION") {
+      saccade::fixation_t m;
+      if (m.decode(e->data, 0, e->datalen) >= 0) out.fixations.push_back(m);
+    } else if (e->channel == "SACCADE_STATUS") {
+      saccade::status_t m;
+      if (m.decode(e->data, 0, e->datalen) >= 0) out.statuses.push_back(m);
+    } else if (e->channel == "TEST_PROBE") {
+      ++out.probes;
+    }
+  }
+  return out;
+}
+
+// Debian's lcm-logger, started and known to be receiving before the test goes on: the test
+// publishes probes until one shows up in the log.
+class Logger {
+ public:
+  Logger(const Sandbox& box, const std::string& name) : path_(box.Path(name)) {
+    pid_ = Spawn({"lcm-logger", "-f", "--flush-interval=20", "--lcm-url=" + box.url, path_},
+                 box.Path(name + ".out"), box.Path(name + ".err"));
+    lcm::LCM lcm(box.url);
+    EXPECT_TRUE(lcm.good());
+    const char probe[] = "probe";
+    EXPECT_TRUE(WaitFor([&] {
+      lcm.publish("TEST_PROBE", probe, sizeof probe);
+      return ReadLog(path_).probes > 0;
+    })) << "lcm-logger never received anything on "
+        << box.url << ": is there a multicast route (ip route add 224.0.0.0/4 dev lo)?";
+  }
+  // Stops the logger (it flushes on SIGINT) and reads what it wrote.
+  LogEvents Finish() {
+    kill(pid_, SIGINT);
+    Wait(pid_);
+    return ReadLog(path_);
+  }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  pid_t pid_ = -1;
+};
+
+float TruthError(const saccade::instance_t& i, const Eigen::Isometry3f& X_CO) {
+  Eigen::Isometry3f X_CM = Eigen::Isometry3f::Identity();
+  X_CM.translate(Eigen::Vector3f(i.trans[0], i.trans[1], i.trans[2]));
+  X_CM.rotate(Eigen::Quaternionf(i.quat[0], i.quat[1], i.quat[2], i.quat[3]).normalized());
+  const Eigen::Vector3f c(i.centroid[0], i.centroid[1], i.centroid[2]);
+  return (c - X_CO * (X_CM.inverse() * c)).norm();
+}
+
+TEST(Saccaded, TracksAMovingTargetThroughAnOcclusionOverRealLcm) {
+  Sandbox box;
+  Logger logger(box, "run.lcmlog");
+  const std::string scenario_path = kSourceDir + "/configs/demo-scenario.yaml";
+  const pid_t pid = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                           "synthetic:" + scenario_path + "?rate=0", "--lcm-url", box.url},
+                          box.Path("out"), box.Path("err"));
+  const Exit exit = Wait(pid);
+  ASSERT_EQ(exit.code, 0) << ReadFile(box.Path("err"));
+  const LogEvents log = logger.Finish();
+
+  Scenario scenario;
+  std::string error;
+  ASSERT_TRUE(LoadScenario(scenario_path, &scenario, &error)) << error;
+  const int n = scenario.frames;
+  // Every processed frame: exactly one DETECTIONS and one FIXATION, in frame order.
+  ASSERT_EQ(static_cast<int>(log.detections.size()), n);
+  ASSERT_EQ(static_cast<int>(log.fixations.size()), n);
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(log.detections[i].seq, i);
+    EXPECT_EQ(log.fixations[i].seq, i);
+    EXPECT_EQ(log.detections[i].utime, log.fixations[i].utime);
+  }
+  ASSERT_FALSE(log.statuses.empty());
+  EXPECT_EQ(log.statuses.back().frames_processed, n);
+  EXPECT_EQ(log.statuses.back().frames_dropped, 0);
+
+  // Found within 2 cm of the truth in at least 95% of the frames where it is visible.
+  const int hidden_from = scenario.occluded_from;
+  const int hidden_to = scenario.occluded_from + scenario.occluded_frames;  // exclusive
+  int visible = 0, found = 0;
+  std::string missed;
+  for (int i = 0; i < n; ++i) {
+    if (i >= hidden_from && i < hidden_to) continue;
+    ++visible;
+    const Eigen::Isometry3f X_CO = ScenarioTargetPose(scenario, i);
+    float best = 1e9f;
+    for (const auto& instance : log.detections[i].instances)
+      best = std::min(best, TruthError(instance, X_CO));
+    if (best < 0.02f)
+      ++found;
+    else
+      missed += " " + std::to_string(i) + (best < 1e9f ? "(" + std::to_string(best) + " m)" : "");
+  }
+  EXPECT_GE(found, 0.95 * visible)
+      << found << " of " << visible << " visible frames; missed:" << missed;
+
+  // Hidden: searching, with G never shrinking.
+  for (int i = hidden_from; i < hidden_to; ++i) {
+    EXPECT_EQ(log.fixations[i].mode, int{saccade::fixation_t::SEARCHING}) << "frame " << i;
+    if (i > hidden_from) {
+      EXPECT_GE(log.fixations[i].growth, log.fixations[i - 1].growth);
+    }
+  }
+  EXPECT_GT(log.fixations[hidden_to - 1].growth, log.fixations[hidden_from].growth);
+  // Back in view: re-acquired within 5 frames, with G back to G_min (0 here).
+  int reacquired = -1;
+  for (int i = hidden_to; i < n && reacquired < 0; ++i)
+    if (log.fixations[i].mode == saccade::fixation_t::TRACKING) reacquired = i;
+  ASSERT_GE(reacquired, 0);
+  EXPECT_LE(reacquired - hidden_to, 5);
+  EXPECT_EQ(log.fixations[reacquired].growth, 0.0);
+
+  // The user's converter reads the same log into one CSV row per fixation.
+  const std::string csv = box.Path("fixations.csv");
+  ASSERT_EQ(Wait(Spawn({kSaccade, "fixations", logger.path(), "--out", csv}, box.Path("cout"),
+                       box.Path("cerr")))
+                .code,
+            0)
+      << ReadFile(box.Path("cerr"));
+  std::ifstream rows(csv);
+  std::string line;
+  int lines = 0;
+  std::getline(rows, line);
+  EXPECT_EQ(line.rfind("utime,seq,", 0), 0u);
+  while (std::getline(rows, line)) ++lines;
+  EXPECT_EQ(lines, n);
+}
+
+// The daemon's own LCM client in the test: waits for a condition on the status channel.
+class StatusWatch {
+ public:
+  explicit StatusWatch(const std::string& url) : lcm_(url) {
+    lcm_.subscribe("SACCADE_STATUS", &StatusWatch::On, this);
+    lcm_.subscribe("SACCADE_FIXATION", &StatusWatch::OnFixation, this);
+  }
+  bool WaitFor(const std::function<bool(const saccade::status_t&)>& done) {
+    return saccade::WaitFor([&] {
+      lcm_.handleTimeout(50);
+      return have_ && done(last_);
+    });
+  }
+  /// Waits for a fixation that satisfies `done` among those received since the last
+  /// successful call (none is missed while waiting for something else).
+  bool WaitForFixation(const std::function<bool(const saccade::fixation_t&)>& done) {
+    return saccade::WaitFor([&] {
+      lcm_.handleTimeout(50);
+      for (; unchecked_ < fixations_.size(); ++unchecked_) {
+        if (done(fixations_[unchecked_])) {
+          ++unchecked_;
+          return true;
+        }
+      }
+      return false;
+    });
+  }
+  lcm::LCM& lcm() { return lcm_; }
+
+ private:
+  void On(const lcm::ReceiveBuffer*, const std::string&, const saccade::status_t* m) {
+    last_ = *m;
+    have_ = true;
+  }
+  void OnFixation(const lcm::ReceiveBuffer*, const std::string&, const saccade::fixation_t* m) {
+    fixations_.push_back(*m);
+  }
+  lcm::LCM lcm_;
+  saccade::status_t last_;
+  bool have_ = false;
+  std::vector<saccade::fixation_t> fixations_;
+  std::size_t unchecked_ = 0;
+};
+
+TEST(Saccaded, RejectsMalformedCommandsCountsThemAndKeepsRunning) {
+  Sandbox box;
+  StatusWatch watch(box.url);
+  // A live looping source that never ends by itself; systemd's notify socket is ours.
+  const std::string notify = box.Path("notify.sock");
+  const int sock = socket(AF_UNIX, SOCK_DGRAM, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  std::strncpy(addr.sun_path, notify.c_str(), sizeof addr.sun_path - 1);
+  ASSERT_EQ(bind(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  const pid_t pid = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                           "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+                          box.Path("out"), box.Path("err"), {"NOTIFY_SOCKET=" + notify});
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
+
+  const char garbage[] = "not a command_t";
+  watch.lcm().publish("SACCADE_COMMAND", garbage, sizeof garbage);
+  saccade::command_t far;
+  far.kind = saccade::command_t::SET_FOVEA;
+  far.fovea[0] = 0, far.fovea[1] = 0, far.fovea[2] = 100;  // 100 m away: out of range
+  watch.lcm().publish("SACCADE_COMMAND", &far);
+  saccade::command_t unknown;
+  unknown.kind = 42;
+  watch.lcm().publish("SACCADE_COMMAND", &unknown);
+  saccade::command_t missing;
+  missing.kind = saccade::command_t::SWITCH_MODEL;
+  missing.model = box.Path("no-such-model.pcd");
+  watch.lcm().publish("SACCADE_COMMAND", &missing);
+  saccade::command_t look;
+  look.kind = saccade::command_t::SET_FOVEA;
+  look.fovea[0] = 0.5, look.fovea[1] = 0.1, look.fovea[2] = 1.5;
+  watch.lcm().publish("SACCADE_COMMAND", &look);
+
+  EXPECT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
+    return s.commands_rejected == 4 && s.commands_accepted == 1;
+  })) << ReadFile(box.Path("err"));
+  EXPECT_TRUE(watch.WaitForFixation([](const saccade::fixation_t& f) {
+    return f.reason == "command" && std::abs(f.fovea[0] - 0.5) < 1e-6 &&
+           std::abs(f.fovea[2] - 1.5) < 1e-6;
+  }));
+  kill(pid, SIGTERM);
+  EXPECT_EQ(Wait(pid).code, 0);
+  const std::string err = ReadFile(box.Path("err"));
+  EXPECT_NE(err.find("command rejected on SACCADE_COMMAND: malformed"), std::string::npos) << err;
+  EXPECT_NE(err.find("out of range"), std::string::npos) << err;
+  EXPECT_NE(err.find("unknown kind 42"), std::string::npos) << err;
+  EXPECT_NE(err.find("no-such-model.pcd"), std::string::npos) << err;
+
+  char buffer[256];
+  std::string states;
+  for (;;) {
+    const ssize_t got = recv(sock, buffer, sizeof buffer, MSG_DONTWAIT);
+    if (got <= 0) break;
+    states += std::string(buffer, got) + ";";
+  }
+  close(sock);
+  EXPECT_NE(states.find("READY=1"), std::string::npos) << states;
+  EXPECT_NE(states.find("STOPPING=1"), std::string::npos) << states;
+}
+
+TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
+  Sandbox box;
+  StatusWatch watch(box.url);
+  const std::string config = box.Path("saccaded.yaml");
+  fs::copy_file(kSourceDir + "/configs/demo.yaml", config);
+  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 1\n";
+  const pid_t pid = Spawn({kSaccaded, "--config", config, "--source",
+                           "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+                          box.Path("out"), box.Path("err"));
+  ASSERT_TRUE(watch.WaitForFixation(
+      [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::TRACKING; }));
+
+  std::ofstream(config, std::ios::app) << "bogus_key: 1\n";
+  kill(pid, SIGHUP);
+  EXPECT_TRUE(WaitFor(
+      [&] { return ReadFile(box.Path("err")).find("reload failed") != std::string::npos; }));
+  EXPECT_NE(ReadFile(box.Path("err")).find("key 'bogus_key': unknown key"), std::string::npos);
+  // The old configuration still tracks.
+  EXPECT_TRUE(watch.WaitForFixation(
+      [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::TRACKING; }));
+
+  // A good new config that no instance can pass: the target is lost from then on.
+  fs::copy_file(kSourceDir + "/configs/demo.yaml", config, fs::copy_options::overwrite_existing);
+  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 1\n"
+                                       << "attention:\n  growth_step: 0.05\n  growth_max_m: 0.1\n";
+  std::string text = ReadFile(config);
+  text.replace(text.find("hough_threshold: 15"), 19, "hough_threshold: 100000");
+  std::ofstream(config) << text;
+  kill(pid, SIGHUP);
+  EXPECT_TRUE(WaitFor(
+      [&] { return ReadFile(box.Path("err")).find("info: reloaded") != std::string::npos; }));
+  EXPECT_TRUE(watch.WaitForFixation(
+      [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::FULL_SCAN; }));
+  kill(pid, SIGTERM);
+  EXPECT_EQ(Wait(pid).code, 0) << ReadFile(box.Path("err"));
+}
+
+TEST(Saccaded, AFastLiveSourceDropsFramesButNotMemory) {
+  Sandbox box;
+  Logger logger(box, "fast.lcmlog");
+  StatusWatch watch(box.url);
+  // Every frame searched whole (G_max 0, full-scan fallback): far slower than 200 Hz.
+  const std::string config = box.Path("slow.yaml");
+  fs::copy_file(kSourceDir + "/configs/demo.yaml", config);
+  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 2\n";
+  std::string text = ReadFile(config);
+  text.replace(text.find("growth_max_m: 1.0"), 17, "growth_max_m: 0.0");
+  std::ofstream(config) << text;
+  const std::string frames = box.Path("frames");
+  ASSERT_EQ(Wait(Spawn({kSaccade, "record", "--source", "synthetic:static?frames=3", "--out",
+                        frames, "--format", "depth"},
+                       box.Path("rec.out"), box.Path("rec.err")))
+                .code,
+            0);
+  const pid_t pid = Spawn({kSaccaded, "--config", config, "--source",
+                           "depth:" + frames + "?rate=200&loop=1", "--lcm-url", box.url},
+                          box.Path("out"), box.Path("err"));
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
+    return s.frames_dropped >= 20 && s.frames_processed >= 5;
+  })) << ReadFile(box.Path("err"));
+  kill(pid, SIGTERM);
+  const Exit exit = Wait(pid);
+  EXPECT_EQ(exit.code, 0) << ReadFile(box.Path("err"));
+  // Bounded memory: a handful of 640x480 frames, not a queue of every dropped one.
+  EXPECT_LT(exit.max_rss_kb, 1500 * 1024);
+  const LogEvents log = logger.Finish();
+  ASSERT_FALSE(log.statuses.empty());
+  const auto& last = log.statuses.back();
+  EXPECT_GT(last.frames_dropped, 0);
+  // Everything taken was published, in order; each frame was foveated with the fixation of
+  // one of the 2 (frames in flight) processed before it, however many were dropped between.
+  EXPECT_EQ(static_cast<std::int64_t>(log.detections.size()), last.frames_processed);
+  for (std::size_t i = 1; i < log.detections.size(); ++i) {
+    const auto& d = log.detections;
+    EXPECT_GT(d[i].seq, d[i - 1].seq);
+    const std::int64_t f = d[i].fixation_seq;  // -1: the start's fixation, before any frame
+    EXPECT_TRUE(f == d[i - 1].seq || (i >= 2 && f == d[i - 2].seq) || (i < 2 && f == -1))
+        << "frame " << d[i].seq << " used the fixation of frame " << d[i].fixation_seq;
+  }
+  // Every frame made was processed or counted as dropped (one may still be in the making).
+  EXPECT_LE(last.frames_in - last.frames_processed - last.frames_dropped, 1);
+  EXPECT_GE(last.frames_in - last.frames_processed - last.frames_dropped, 0);
+}
+
+struct BadConfig {
+  std::string text;
+  std::string expected;  // in the one error line
+};
+
+TEST(Saccaded, BadConfigFilesStopItWithFileKeyAndReason) {
+  Sandbox box;
+  const std::vector<BadConfig> cases = {
+      {"model: synthetic:target\nbogus: 1\n", "key 'bogus': unknown key"},
+      {"model: synthetic:target\nattention:\n  growth_stepp: 1\n", "key 'attention.growth_stepp'"},
+      {"model: synthetic:target\nrecognition:\n  hough_threshold: many\n",
+       "key 'recognition.hough_threshold': wrong type"},
+      {"model: synthetic:target\nattention:\n  growth_step: -1\n", "growth_step must be > 0"},
+      {"model: synthetic:target\nattention:\n  fallback: pray\n", "expected full_scan | saccade"},
+      {"model: synthetic:target\npipeline:\n  frames_in_flight: 0\n",
+       "key 'pipeline.frames_in_flight': must be in [1, 16]"},
+      {"model: [\n", "line"},
+      {"source: synthetic:static\n", "no model"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const std::string path = box.Path("bad" + std::to_string(i) + ".yaml");
+    std::ofstream(path) << cases[i].text;
+    const Exit exit = Wait(Spawn({kSaccaded, "--config", path, "--lcm-url", "memq://"},
+                                 box.Path("out"), box.Path("err")));
+    const std::string err = ReadFile(box.Path("err"));
+    EXPECT_EQ(exit.code, 2) << cases[i].text;
+    EXPECT_NE(err.find(cases[i].expected), std::string::npos) << err;
+    if (i + 1 < cases.size()) {  // the last case's error is about the flags, not the file
+      EXPECT_NE(err.find(path), std::string::npos) << err;
+    }
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  }
+  // Runtime failures: the source and the model cannot be opened.
+  Exit exit = Wait(Spawn({kSaccaded, "--model", "synthetic:target", "--source",
+                          "pcd:" + box.Path("nothing-here"), "--lcm-url", "memq://"},
+                         box.Path("out"), box.Path("err")));
+  EXPECT_EQ(exit.code, 1);
+  EXPECT_NE(ReadFile(box.Path("err")).find("nothing-here"), std::string::npos);
+  exit = Wait(Spawn({kSaccaded, "--model", box.Path("missing.pcd"), "--lcm-url", "memq://"},
+                    box.Path("out"), box.Path("err")));
+  EXPECT_EQ(exit.code, 1);
+  EXPECT_NE(ReadFile(box.Path("err")).find("missing.pcd"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace saccade
