@@ -109,6 +109,31 @@ class LatencyWindow {
   std::size_t next_ = 0;
 };
 
+// Latencies over a whole run, in 0.1 ms bins up to 2 s (beyond: the last bin), so the run's
+// percentiles cost constant memory however long it runs.
+class RunHistogram {
+ public:
+  void Add(double ms) {
+    const auto bin = static_cast<std::size_t>(std::max(0.0, ms) * 10);
+    ++bins_[std::min(bin, bins_.size() - 1)];
+    ++count_;
+  }
+  double Percentile(double q) const {
+    if (count_ == 0) return 0;
+    const auto rank = static_cast<std::int64_t>(q * (count_ - 1));
+    std::int64_t seen = 0;
+    for (std::size_t i = 0; i < bins_.size(); ++i) {
+      seen += bins_[i];
+      if (seen > rank) return (i + 0.5) / 10;
+    }
+    return bins_.size() / 10.0;
+  }
+
+ private:
+  std::vector<std::int64_t> bins_ = std::vector<std::int64_t>(20000, 0);
+  std::int64_t count_ = 0;
+};
+
 double Ms(std::int64_t from_ns, std::int64_t to_ns) { return (to_ns - from_ns) * 1e-6; }
 
 // One frame's trip through the pipeline.
@@ -173,6 +198,7 @@ struct Tracker::State {
   // Written by the serial stages, read by the status thread.
   std::mutex stats_mutex;
   LatencyWindow recognize, attend, publish, capture_to_publish;
+  RunHistogram run_recognize, run_capture_to_publish;
   std::int64_t processed = 0;
   int lag_max = 0;
   AttentionMode mode = AttentionMode::kSearching;
@@ -336,6 +362,8 @@ void Tracker::State::Publish(Job* job) {
   attend.Add(job->attention_ms);
   publish.Add(Ms(t0, t1));
   capture_to_publish.Add(Ms(job->frame.arrival_steady_ns, t1));
+  run_recognize.Add(job->recognize_ms);
+  run_capture_to_publish.Add(Ms(job->frame.arrival_steady_ns, t1));
   ++processed;
   if (job->used.frame_seq >= 0)
     lag_max = std::max<int>(lag_max, static_cast<int>(frame.seq - job->used.frame_seq));
@@ -534,6 +562,25 @@ bool Tracker::Run(std::string* error) {
   // the run's mean).
   last_processed = 0;
   s.PublishStatus(std::max(1e-3, Ms(s.started_ns, SteadyNowNs()) / 1000), &last_processed, true);
+  {
+    // The run in one line: what a benchmark of the daemon reads.
+    const SourceStats stats = s.source->Stats();
+    std::lock_guard<std::mutex> lock(s.stats_mutex);
+    const double seconds = Ms(s.started_ns, SteadyNowNs()) / 1000;
+    const double in = static_cast<double>(std::max<std::uint64_t>(stats.produced, 1));
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "run: %lld frames processed in %.1f s (%.1f fps), %llu of %llu dropped "
+                  "(%.2f%%); recognize p50 %.1f ms p99 %.1f ms; capture-to-publish p50 %.1f ms "
+                  "p99 %.1f ms",
+                  static_cast<long long>(s.processed), seconds, s.processed / seconds,
+                  static_cast<unsigned long long>(stats.dropped),
+                  static_cast<unsigned long long>(stats.produced), 100.0 * stats.dropped / in,
+                  s.run_recognize.Percentile(0.5), s.run_recognize.Percentile(0.99),
+                  s.run_capture_to_publish.Percentile(0.5),
+                  s.run_capture_to_publish.Percentile(0.99));
+    Log(LogLevel::kInfo, line);
+  }
   if (!source_error.empty()) {
     *error = "source " + s.settings.source + ": " + source_error;
     return false;
