@@ -431,6 +431,37 @@ TEST(Saccaded, AFastLiveSourceDropsFramesButNotMemory) {
   EXPECT_GE(last.frames_in - last.frames_processed - last.frames_dropped, 0);
 }
 
+TEST(Saccaded, LogFixationsWritesWhatTheDaemonPublishesLive) {
+  Sandbox box;
+  const std::string out = box.Path("live.jsonl");
+  const pid_t logger = Spawn({kSaccade, "log-fixations", "--out", out, "--count", "5",
+                              "--lcm-url", box.url},
+                             box.Path("log.out"), box.Path("log.err"));
+  // A source that loops: the logger gets its 5 whenever it is ready.
+  const pid_t daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                              "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+                             box.Path("out"), box.Path("err"));
+  EXPECT_EQ(Wait(logger).code, 0) << ReadFile(box.Path("log.err"));
+  kill(daemon, SIGTERM);
+  EXPECT_EQ(Wait(daemon).code, 0);
+  std::ifstream in(out);
+  std::string line;
+  int rows = 0;
+  std::int64_t last_seq = -1;
+  while (std::getline(in, line)) {
+    ++rows;
+    EXPECT_EQ(line.front(), '{');
+    EXPECT_NE(line.find("\"mode\":\""), std::string::npos) << line;
+    const auto at = line.find("\"seq\":");
+    ASSERT_NE(at, std::string::npos) << line;
+    const std::int64_t seq = std::stoll(line.substr(at + 6));
+    EXPECT_GT(seq, last_seq);
+    last_seq = seq;
+  }
+  EXPECT_EQ(rows, 5);
+  EXPECT_NE(ReadFile(box.Path("log.err")).find("5 fixation(s) written"), std::string::npos);
+}
+
 struct BadConfig {
   std::string text;
   std::string expected;  // in the one error line
