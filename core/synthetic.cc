@@ -57,20 +57,54 @@ float Intersect(const Shape::Part& p, const Eigen::Vector3f& o, const Eigen::Vec
   return t0;
 }
 
+// An object as the renderer sees it: rays move into its frame by X_OC, and a sphere in that
+// frame bounds all its parts, so most rays skip most objects after one test.
+struct Placed {
+  const SceneObject* object = nullptr;
+  Eigen::Isometry3f X_OC = Eigen::Isometry3f::Identity();
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();  // bounding sphere, object frame
+  float radius = 0;
+
+  explicit Placed(const SceneObject& o) : object(&o), X_OC(o.pose.inverse()) {
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(kInf), hi = -lo;
+    for (const auto& p : o.shape.parts) {
+      const Eigen::Vector3f half = p.kind == Shape::Part::Kind::kBox
+                                       ? p.half_size_m
+                                       : Eigen::Vector3f::Constant(p.radius_m);
+      lo = lo.cwiseMin(p.centre_m - half);
+      hi = hi.cwiseMax(p.centre_m + half);
+    }
+    if (o.shape.parts.empty()) return;
+    centre = (lo + hi) / 2;
+    radius = (hi - lo).norm() / 2 * 1.0001f + 1e-6f;
+  }
+
+  /// False when the ray o + t d (object frame, |d| = 1) cannot hit a part at 0 < t < max_t.
+  bool MayHit(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float max_t) const {
+    const Eigen::Vector3f oc = centre - o;
+    const float tc = oc.dot(d);
+    const float off2 = oc.squaredNorm() - tc * tc;
+    const float r2 = radius * radius;
+    if (off2 > r2) return false;
+    const float half_chord = std::sqrt(r2 - off2);
+    return tc + half_chord > 0 && tc - half_chord < max_t;
+  }
+};
+
 // True when something lies between the projector and `point` (both in the camera frame).
-bool Shadowed(const std::vector<SceneObject>& objects, const std::vector<Eigen::Isometry3f>& X_OC,
-              float table_height_m, const Eigen::Vector3f& point,
-              const Eigen::Vector3f& projector) {
+bool Shadowed(const std::vector<Placed>& placed, float table_height_m,
+              const Eigen::Vector3f& point, const Eigen::Vector3f& projector) {
   const Eigen::Vector3f to_point = point - projector;
   const float distance = to_point.norm();
   const Eigen::Vector3f d = to_point / distance;
   const float reach = distance - 0.002f;  // the surface itself does not shadow its own point
   if (d.y() > 1e-6f && table_height_m - projector.y() < reach * d.y()) return true;
-  for (std::size_t i = 0; i < objects.size(); ++i) {
-    const Eigen::Vector3f o = X_OC[i] * projector;
-    const Eigen::Vector3f dl = X_OC[i].linear() * d;
+  for (const Placed& p : placed) {
+    const Eigen::Vector3f o = p.X_OC * projector;
+    const Eigen::Vector3f dl = p.X_OC.linear() * d;
+    if (!p.MayHit(o, dl, reach)) continue;
     Eigen::Vector3f n;
-    for (const auto& part : objects[i].shape.parts)
+    for (const auto& part : p.object->shape.parts)
       if (Intersect(part, o, dl, &n) < reach) return true;
   }
   return false;
@@ -89,8 +123,8 @@ RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_h
   std::mt19937 rng(seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
   // Rays in each object's frame are the camera rays moved by X_OC.
-  std::vector<Eigen::Isometry3f> X_OC;
-  for (const auto& o : objects) X_OC.push_back(o.pose.inverse());
+  std::vector<Placed> placed;
+  for (const auto& o : objects) placed.emplace_back(o);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   for (int v = 0; v < k.height; ++v) {
     for (int u = 0; u < k.width; ++u) {
@@ -105,8 +139,9 @@ RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_h
         best_normal = -Eigen::Vector3f::UnitY();
       }
       for (std::size_t i = 0; i < objects.size(); ++i) {
-        const Eigen::Vector3f o = X_OC[i].translation();
-        const Eigen::Vector3f dl = X_OC[i].linear() * d;
+        const Eigen::Vector3f o = placed[i].X_OC.translation();
+        const Eigen::Vector3f dl = placed[i].X_OC.linear() * d;
+        if (!placed[i].MayHit(o, dl, best)) continue;
         for (const auto& part : objects[i].shape.parts) {
           Eigen::Vector3f n;
           const float t = Intersect(part, o, dl, &n);
@@ -130,7 +165,7 @@ RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_h
       if (noise.enabled) {
         if (incidence < noise.grazing_cos) continue;
         if (noise.projector_shadows &&
-            Shadowed(objects, X_OC, table_height_m, best * d,
+            Shadowed(placed, table_height_m, best * d,
                      Eigen::Vector3f(static_cast<float>(noise.baseline_m), 0, 0)))
           continue;
         z += noise.sigma_at_1m_m * z * z * n1;
