@@ -26,6 +26,7 @@
 #include <functional>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 extern char** environ;
 
@@ -46,8 +47,46 @@ struct Sandbox {
   std::string Path(const std::string& name) const { return (dir / name).string(); }
 };
 
-// Starts a program with stdout and stderr to files; returns its pid.
-pid_t Spawn(const std::vector<std::string>& argv, const std::string& out, const std::string& err,
+struct Exit {
+  int code = -1;
+  long max_rss_kb = 0;
+};
+
+// A started program. A test that fails before waiting for it must not leave it running (it
+// would eat a core from every later test), so the destructor kills and reaps it.
+class Child {
+ public:
+  explicit Child(pid_t pid) : pid_(pid) {}
+  Child(Child&& other) noexcept : pid_(std::exchange(other.pid_, -1)) {}
+  Child& operator=(Child&& other) noexcept {
+    std::swap(pid_, other.pid_);
+    return *this;
+  }
+  ~Child() {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  void Signal(int signo) const { kill(pid_, signo); }
+  Exit Wait() {
+    int status = 0;
+    rusage usage{};
+    wait4(pid_, &status, 0, &usage);
+    pid_ = -1;
+    Exit e;
+    e.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    e.max_rss_kb = usage.ru_maxrss;
+    return e;
+  }
+
+ private:
+  pid_t pid_;
+};
+Exit Wait(Child&& child) { return child.Wait(); }
+
+// Starts a program with stdout and stderr to files.
+Child Spawn(const std::vector<std::string>& argv, const std::string& out, const std::string& err,
             const std::vector<std::string>& extra_env = {}) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -65,21 +104,7 @@ pid_t Spawn(const std::vector<std::string>& argv, const std::string& out, const 
   const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), env.data());
   posix_spawn_file_actions_destroy(&actions);
   EXPECT_EQ(rc, 0) << "cannot start " << argv[0];
-  return pid;
-}
-
-struct Exit {
-  int code = -1;
-  long max_rss_kb = 0;
-};
-Exit Wait(pid_t pid) {
-  int status = 0;
-  rusage usage{};
-  wait4(pid, &status, 0, &usage);
-  Exit e;
-  e.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  e.max_rss_kb = usage.ru_maxrss;
-  return e;
+  return Child(rc == 0 ? pid : -1);
 }
 
 std::string ReadFile(const std::string& path) {
@@ -132,8 +157,8 @@ LogEvents ReadLog(const std::string& path) {
 class Logger {
  public:
   Logger(const Sandbox& box, const std::string& name) : path_(box.Path(name)) {
-    pid_ = Spawn({"lcm-logger", "-f", "--flush-interval=20", "--lcm-url=" + box.url, path_},
-                 box.Path(name + ".out"), box.Path(name + ".err"));
+    child_ = Spawn({"lcm-logger", "-f", "--flush-interval=20", "--lcm-url=" + box.url, path_},
+                   box.Path(name + ".out"), box.Path(name + ".err"));
     lcm::LCM lcm(box.url);
     EXPECT_TRUE(lcm.good());
     const char probe[] = "probe";
@@ -145,15 +170,15 @@ class Logger {
   }
   // Stops the logger (it flushes on SIGINT) and reads what it wrote.
   LogEvents Finish() {
-    kill(pid_, SIGINT);
-    Wait(pid_);
+    child_.Signal(SIGINT);
+    child_.Wait();
     return ReadLog(path_);
   }
   const std::string& path() const { return path_; }
 
  private:
   std::string path_;
-  pid_t pid_ = -1;
+  Child child_{-1};
 };
 
 float TruthError(const saccade::instance_t& i, const Eigen::Isometry3f& X_CO) {
@@ -168,10 +193,10 @@ TEST(Saccaded, TracksAMovingTargetThroughAnOcclusionOverRealLcm) {
   Sandbox box;
   Logger logger(box, "run.lcmlog");
   const std::string scenario_path = kSourceDir + "/configs/demo-scenario.yaml";
-  const pid_t pid = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
-                           "synthetic:" + scenario_path + "?rate=0", "--lcm-url", box.url},
-                          box.Path("out"), box.Path("err"));
-  const Exit exit = Wait(pid);
+  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                        "synthetic:" + scenario_path + "?rate=0", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"));
+  const Exit exit = daemon.Wait();
   ASSERT_EQ(exit.code, 0) << ReadFile(box.Path("err"));
   const LogEvents log = logger.Finish();
 
@@ -297,9 +322,9 @@ TEST(Saccaded, RejectsMalformedCommandsCountsThemAndKeepsRunning) {
   addr.sun_family = AF_UNIX;
   std::strncpy(addr.sun_path, notify.c_str(), sizeof addr.sun_path - 1);
   ASSERT_EQ(bind(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
-  const pid_t pid = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
-                           "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
-                          box.Path("out"), box.Path("err"), {"NOTIFY_SOCKET=" + notify});
+  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                        "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"), {"NOTIFY_SOCKET=" + notify});
   ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
 
   const char garbage[] = "not a command_t";
@@ -327,8 +352,8 @@ TEST(Saccaded, RejectsMalformedCommandsCountsThemAndKeepsRunning) {
     return f.reason == "command" && std::abs(f.fovea[0] - 0.5) < 1e-6 &&
            std::abs(f.fovea[2] - 1.5) < 1e-6;
   }));
-  kill(pid, SIGTERM);
-  EXPECT_EQ(Wait(pid).code, 0);
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0);
   const std::string err = ReadFile(box.Path("err"));
   EXPECT_NE(err.find("command rejected on SACCADE_COMMAND: malformed"), std::string::npos) << err;
   EXPECT_NE(err.find("out of range"), std::string::npos) << err;
@@ -353,14 +378,14 @@ TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
   const std::string config = box.Path("saccaded.yaml");
   fs::copy_file(kSourceDir + "/configs/demo.yaml", config);
   std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 1\n";
-  const pid_t pid = Spawn({kSaccaded, "--config", config, "--source",
-                           "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
-                          box.Path("out"), box.Path("err"));
+  Child daemon = Spawn({kSaccaded, "--config", config, "--source",
+                        "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"));
   ASSERT_TRUE(watch.WaitForFixation(
       [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::TRACKING; }));
 
   std::ofstream(config, std::ios::app) << "bogus_key: 1\n";
-  kill(pid, SIGHUP);
+  daemon.Signal(SIGHUP);
   EXPECT_TRUE(WaitFor(
       [&] { return ReadFile(box.Path("err")).find("reload failed") != std::string::npos; }));
   EXPECT_NE(ReadFile(box.Path("err")).find("key 'bogus_key': unknown key"), std::string::npos);
@@ -375,13 +400,13 @@ TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
   std::string text = ReadFile(config);
   text.replace(text.find("hough_threshold: 15"), 19, "hough_threshold: 100000");
   std::ofstream(config) << text;
-  kill(pid, SIGHUP);
+  daemon.Signal(SIGHUP);
   EXPECT_TRUE(WaitFor(
       [&] { return ReadFile(box.Path("err")).find("info: reloaded") != std::string::npos; }));
   EXPECT_TRUE(watch.WaitForFixation(
       [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::FULL_SCAN; }));
-  kill(pid, SIGTERM);
-  EXPECT_EQ(Wait(pid).code, 0) << ReadFile(box.Path("err"));
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
 }
 
 TEST(Saccaded, AFastLiveSourceDropsFramesButNotMemory) {
@@ -401,14 +426,14 @@ TEST(Saccaded, AFastLiveSourceDropsFramesButNotMemory) {
                        box.Path("rec.out"), box.Path("rec.err")))
                 .code,
             0);
-  const pid_t pid = Spawn({kSaccaded, "--config", config, "--source",
-                           "depth:" + frames + "?rate=200&loop=1", "--lcm-url", box.url},
-                          box.Path("out"), box.Path("err"));
+  Child daemon = Spawn({kSaccaded, "--config", config, "--source",
+                        "depth:" + frames + "?rate=200&loop=1", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"));
   ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
     return s.frames_dropped >= 20 && s.frames_processed >= 5;
   })) << ReadFile(box.Path("err"));
-  kill(pid, SIGTERM);
-  const Exit exit = Wait(pid);
+  daemon.Signal(SIGTERM);
+  const Exit exit = daemon.Wait();
   EXPECT_EQ(exit.code, 0) << ReadFile(box.Path("err"));
   // Bounded memory: a handful of 640x480 frames, not a queue of every dropped one.
   EXPECT_LT(exit.max_rss_kb, 1500 * 1024);
@@ -434,16 +459,16 @@ TEST(Saccaded, AFastLiveSourceDropsFramesButNotMemory) {
 TEST(Saccaded, LogFixationsWritesWhatTheDaemonPublishesLive) {
   Sandbox box;
   const std::string out = box.Path("live.jsonl");
-  const pid_t logger = Spawn({kSaccade, "log-fixations", "--out", out, "--count", "5",
-                              "--lcm-url", box.url},
-                             box.Path("log.out"), box.Path("log.err"));
+  Child logger =
+      Spawn({kSaccade, "log-fixations", "--out", out, "--count", "5", "--lcm-url", box.url},
+            box.Path("log.out"), box.Path("log.err"));
   // A source that loops: the logger gets its 5 whenever it is ready.
-  const pid_t daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
-                              "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
-                             box.Path("out"), box.Path("err"));
-  EXPECT_EQ(Wait(logger).code, 0) << ReadFile(box.Path("log.err"));
-  kill(daemon, SIGTERM);
-  EXPECT_EQ(Wait(daemon).code, 0);
+  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                        "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"));
+  EXPECT_EQ(logger.Wait().code, 0) << ReadFile(box.Path("log.err"));
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0);
   std::ifstream in(out);
   std::string line;
   int rows = 0;
