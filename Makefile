@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
 
-.PHONY: all deps configure build demo test bench clean
+.PHONY: all deps configure build demo test bench bench-daemon clean
 
 all: build
 
@@ -28,6 +28,10 @@ test: build
 # Speed on the real milk scene (needs ../shared/data); see docs/BENCHMARKS.md.
 bench: build
 	@./scripts/bench.sh $(BUILD_DIR)
+
+# saccaded against a 30 Hz virtual OpenNI2 camera; see docs/BENCHMARKS.md.
+bench-daemon: build
+	@./scripts/bench-daemon.sh $(BUILD_DIR)
 
 clean:
 	@rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log

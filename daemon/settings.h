@@ -22,8 +22,10 @@ struct DaemonSettings {
   FoveaOptions fovea;
   AttentionOptions attention;
   SaliencyOptions saliency;
-  int frames_in_flight = 2;  // frames in the pipeline at once (>= 1); more: throughput, lag
-  int threads = 0;           // worker threads; 0: one per core
+  /// Frames in the pipeline at once (>= 1). 1 gives the lowest latency when a frame fits in the
+  /// sensor period (recognition already uses every core); 2 overlaps frames for throughput.
+  int frames_in_flight = 1;
+  int threads = 0;  // worker threads; 0: one per core
   BusOptions bus;
   std::string log_level = "info";  // debug | info | warning | error
   double status_period_s = 1.0;    // SACCADE_STATUS period
