@@ -97,6 +97,7 @@ int main(int argc, char** argv) {
   });
 
   const bool watchdog = SystemdWatchdogEnabled();
+  if (watchdog) Log(LogLevel::kInfo, "systemd watchdog: pinged while frames flow");
   auto created = Tracker::Create(
       settings,
       [watchdog](bool progressing) {

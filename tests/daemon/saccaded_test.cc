@@ -324,7 +324,8 @@ TEST(Saccaded, RejectsMalformedCommandsCountsThemAndKeepsRunning) {
   ASSERT_EQ(bind(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
   Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
                         "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
-                       box.Path("out"), box.Path("err"), {"NOTIFY_SOCKET=" + notify});
+                       box.Path("out"), box.Path("err"),
+                       {"NOTIFY_SOCKET=" + notify, "WATCHDOG_USEC=10000000"});
   ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
 
   const char garbage[] = "not a command_t";
@@ -352,6 +353,23 @@ TEST(Saccaded, RejectsMalformedCommandsCountsThemAndKeepsRunning) {
     return f.reason == "command" && std::abs(f.fovea[0] - 0.5) < 1e-6 &&
            std::abs(f.fovea[2] - 1.5) < 1e-6;
   }));
+
+  // PAUSE: no frame goes through until RESUME.
+  saccade::command_t pause;
+  pause.kind = saccade::command_t::PAUSE;
+  watch.lcm().publish("SACCADE_COMMAND", &pause);
+  std::int64_t frozen = -1;
+  EXPECT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
+    if (!s.paused) return false;
+    const bool same = s.frames_processed == frozen;  // two periods in a row without a frame
+    frozen = s.frames_processed;
+    return same;
+  }));
+  saccade::command_t resume;
+  resume.kind = saccade::command_t::RESUME;
+  watch.lcm().publish("SACCADE_COMMAND", &resume);
+  EXPECT_TRUE(watch.WaitFor(
+      [&](const saccade::status_t& s) { return !s.paused && s.frames_processed > frozen; }));
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0);
   const std::string err = ReadFile(box.Path("err"));
@@ -370,6 +388,7 @@ TEST(Saccaded, RejectsMalformedCommandsCountsThemAndKeepsRunning) {
   close(sock);
   EXPECT_NE(states.find("READY=1"), std::string::npos) << states;
   EXPECT_NE(states.find("STOPPING=1"), std::string::npos) << states;
+  EXPECT_NE(states.find("WATCHDOG=1"), std::string::npos) << states << err;
 }
 
 TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {

@@ -1,0 +1,180 @@
+// The LCM bus over a real UDP multicast socket on this host: what goes out is what the types
+// say (frames, units, the robot transform), and commands come in checked and converted.
+#include "io/bus.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+#include <lcm/lcm-cpp.hpp>
+#include <saccade/command_t.hpp>
+#include <saccade/detections_t.hpp>
+#include <saccade/fixation_t.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+namespace saccade {
+namespace {
+
+std::string TestUrl() {
+  return "udpm://239.255.76.67:" + std::to_string(7960 + getpid() % 30) + "?ttl=0";
+}
+
+// Publishes `m` until `received` holds (LCM over UDP gives no delivery guarantee, and the
+// receiver's socket may not be up for the first message).
+template <typename Done>
+bool Until(Done received, const std::function<void()>& send) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!received()) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    send();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return true;
+}
+
+TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
+  BusOptions options;
+  options.url = TestUrl();
+  options.commands = false;
+  options.to_robot_frame = true;
+  options.robot_frame = "base_link";
+  options.robot_from_camera =
+      Eigen::Translation3f(0.1f, 0.0f, 0.5f) *
+      Eigen::AngleAxisf(static_cast<float>(M_PI) / 2, Eigen::Vector3f::UnitZ());
+  std::string error;
+  auto bus = OpenLcmBus(options, nullptr, &error);
+  ASSERT_TRUE(bus) << error;
+
+  lcm::LCM listener(options.url);
+  std::optional<saccade::detections_t> got;
+  std::optional<saccade::fixation_t> fixation;
+  struct Handler {
+    std::optional<saccade::detections_t>* d;
+    std::optional<saccade::fixation_t>* f;
+    void OnD(const lcm::ReceiveBuffer*, const std::string&, const saccade::detections_t* m) {
+      *d = *m;
+    }
+    void OnF(const lcm::ReceiveBuffer*, const std::string&, const saccade::fixation_t* m) {
+      *f = *m;
+    }
+  } handler{&got, &fixation};
+  listener.subscribe("SACCADE_DETECTIONS", &Handler::OnD, &handler);
+  listener.subscribe("SACCADE_FIXATION", &Handler::OnF, &handler);
+
+  FrameReport frame;
+  frame.capture_utime = 123456;
+  frame.seq = 7;
+  frame.fovea_m = Eigen::Vector3f(0, 0, 1);
+  InstanceReport instance;
+  instance.model_name = "m.pcd";
+  instance.camera_from_model.block<3, 1>(0, 3) = Eigen::Vector3f(1, 0, 2);
+  instance.centroid_m = Eigen::Vector3f(1, 0, 2);
+  instance.votes = 9;
+  frame.instances = {instance};
+  FixationReport f;
+  f.seq = 7;
+  f.fovea_m = Eigen::Vector3f(1, 0, 2);
+  f.velocity_mps = Eigen::Vector3f(1, 0, 0);
+  f.mode = 0;
+  f.mode_name = "TRACKING";
+  ASSERT_TRUE(Until([&] { return got && fixation; },
+                    [&] {
+                      bus->Publish(frame, f);
+                      listener.handleTimeout(10);
+                      listener.handleTimeout(10);
+                    }));
+  EXPECT_EQ(got->frame, "base_link");
+  EXPECT_EQ(got->utime, 123456);
+  EXPECT_EQ(got->seq, 7);
+  ASSERT_EQ(got->num_instances, 1);
+  const auto& i = got->instances[0];
+  // X_RM = X_RC X_CM: the camera point (1, 0, 2) turned 90 degrees about z, then moved.
+  EXPECT_NEAR(i.trans[0], 0.1, 1e-5);
+  EXPECT_NEAR(i.trans[1], 1.0, 1e-5);
+  EXPECT_NEAR(i.trans[2], 2.5, 1e-5);
+  EXPECT_NEAR(i.quat[0], std::cos(M_PI / 4), 1e-5);  // w
+  EXPECT_NEAR(i.quat[3], std::sin(M_PI / 4), 1e-5);  // z
+  EXPECT_NEAR(i.centroid[1], 1.0, 1e-5);
+  EXPECT_EQ(i.votes, 9);
+  EXPECT_NEAR(got->fovea[2], 1.5, 1e-5);
+  EXPECT_EQ(fixation->frame, "base_link");
+  EXPECT_NEAR(fixation->velocity[1], 1.0, 1e-5);  // velocities turn but do not move
+  EXPECT_NEAR(fixation->velocity[0], 0.0, 1e-5);
+}
+
+TEST(LcmBus, CommandsArriveInTheCameraFrameAndBadOnesAreCounted) {
+  BusOptions options;
+  options.url = TestUrl();
+  options.channel_prefix = "ROBOT1";
+  options.to_robot_frame = true;
+  options.robot_from_camera = Eigen::Isometry3f(Eigen::Translation3f(0, 0, 0.5f));
+  std::mutex mutex;
+  std::vector<Command> commands;
+  std::string error;
+  auto bus = OpenLcmBus(
+      options,
+      [&](const Command& c, std::string* why) {
+        if (c.kind == Command::Kind::kSwitchModel) {
+          *why = "no such model";
+          return false;
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        commands.push_back(c);
+        return true;
+      },
+      &error);
+  ASSERT_TRUE(bus) << error;
+  lcm::LCM sender(options.url);
+  saccade::command_t look;
+  look.kind = saccade::command_t::SET_FOVEA;
+  look.fovea[0] = 0.2, look.fovea[1] = 0, look.fovea[2] = 1.5;
+  ASSERT_TRUE(Until(
+      [&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return !commands.empty();
+      },
+      [&] { sender.publish("ROBOT1_COMMAND", &look); }));
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    EXPECT_EQ(commands.front().kind, Command::Kind::kSetFovea);
+    EXPECT_TRUE(commands.front().fovea_m.isApprox(Eigen::Vector3f(0.2f, 0, 1.0f)));
+  }
+  const std::int64_t accepted = bus->AcceptedCommands();
+  EXPECT_GE(accepted, 1);
+  // Wrong channel: ignored, not counted. Bad ones: rejected and counted.
+  sender.publish("SACCADE_COMMAND", &look);
+  saccade::command_t nan_fovea = look;
+  nan_fovea.fovea[0] = std::nan("");
+  saccade::command_t model;
+  model.kind = saccade::command_t::SWITCH_MODEL;
+  model.model = "x.pcd";
+  const char short_bytes[] = {1, 2, 3};
+  // The receiver is known to be up now: each message is sent once, and counted once.
+  const std::vector<std::function<void()>> bad = {
+      [&] { sender.publish("ROBOT1_COMMAND", &nan_fovea); },
+      [&] { sender.publish("ROBOT1_COMMAND", &model); },
+      [&] { sender.publish("ROBOT1_COMMAND", short_bytes, sizeof short_bytes); }};
+  for (std::size_t k = 0; k < bad.size(); ++k) {
+    bad[k]();
+    ASSERT_TRUE(
+        Until([&] { return bus->RejectedCommands() == static_cast<std::int64_t>(k + 1); }, [] {}))
+        << "bad command " << k;
+  }
+  EXPECT_EQ(bus->RejectedCommands(), 3);
+  EXPECT_EQ(bus->AcceptedCommands(), accepted);
+}
+
+TEST(LcmBus, ABadUrlIsOneClearError) {
+  BusOptions options;
+  options.url = "bogus://nowhere";
+  std::string error;
+  EXPECT_EQ(OpenLcmBus(options, nullptr, &error), nullptr);
+  EXPECT_NE(error.find("bogus://nowhere"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace saccade
