@@ -147,16 +147,15 @@ ScenarioFrame RenderScenarioFrame(const Scenario& sc, int index, const CameraInt
     objects.push_back(
         {ScreenShape(), PoseOnTable(c.x(), c.z(), facing, sc.table_height_m, 0.2f), 1000});
   }
-  // The same seed per frame for the scene and the target alone: their noise draws match.
+  // One seed per frame: the same frame renders the same every time.
   const std::uint32_t seed = sc.seed * 7919u + static_cast<std::uint32_t>(index);
   out.rendered = RenderScene(objects, sc.table_height_m, k, sc.noise, seed);
-  const RenderedFrame alone = RenderScene({objects.front()}, sc.table_height_m, k, sc.noise, seed);
-  const auto count = [&](const RenderedFrame& f) {
-    return std::count(f.label.begin(), f.label.end(), kTargetLabel);
-  };
-  const auto whole = count(alone);
+  // The target alone, counted over its own pixels only: what of it the sensor would see.
+  const std::size_t whole =
+      CountReturns({objects.front()}, sc.table_height_m, k, sc.noise, kTargetLabel);
+  const auto seen = std::count(out.rendered.label.begin(), out.rendered.label.end(), kTargetLabel);
   out.truth.visible_fraction =
-      whole > 0 ? static_cast<float>(count(out.rendered)) / static_cast<float>(whole) : 0.0f;
+      whole > 0 ? static_cast<float>(seen) / static_cast<float>(whole) : 0.0f;
   return out;
 }
 

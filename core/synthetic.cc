@@ -68,9 +68,8 @@ struct Placed {
   explicit Placed(const SceneObject& o) : object(&o), X_OC(o.pose.inverse()) {
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(kInf), hi = -lo;
     for (const auto& p : o.shape.parts) {
-      const Eigen::Vector3f half = p.kind == Shape::Part::Kind::kBox
-                                       ? p.half_size_m
-                                       : Eigen::Vector3f::Constant(p.radius_m);
+      const Eigen::Vector3f half =
+          p.kind == Shape::Part::Kind::kBox ? p.half_size_m : Eigen::Vector3f::Constant(p.radius_m);
       lo = lo.cwiseMin(p.centre_m - half);
       hi = hi.cwiseMax(p.centre_m + half);
     }
@@ -92,8 +91,8 @@ struct Placed {
 };
 
 // True when something lies between the projector and `point` (both in the camera frame).
-bool Shadowed(const std::vector<Placed>& placed, float table_height_m,
-              const Eigen::Vector3f& point, const Eigen::Vector3f& projector) {
+bool Shadowed(const std::vector<Placed>& placed, float table_height_m, const Eigen::Vector3f& point,
+              const Eigen::Vector3f& projector) {
   const Eigen::Vector3f to_point = point - projector;
   const float distance = to_point.norm();
   const Eigen::Vector3f d = to_point / distance;
@@ -110,6 +109,51 @@ bool Shadowed(const std::vector<Placed>& placed, float table_height_m,
   return false;
 }
 
+// What one pixel's ray meets first.
+struct Hit {
+  Eigen::Vector3f d = Eigen::Vector3f::Zero();  // unit ray direction, camera frame
+  float t = kInf;                               // distance along it; kInf: nothing
+  Eigen::Vector3f normal = -Eigen::Vector3f::UnitY();
+  std::uint32_t label = 0;
+};
+
+Hit Cast(const std::vector<Placed>& placed, float table_height_m, const CameraIntrinsics& k, int u,
+         int v) {
+  Hit h;
+  h.d = Eigen::Vector3f(static_cast<float>((u - k.cx) / k.fx),
+                        static_cast<float>((v - k.cy) / k.fy), 1.0f)
+            .normalized();
+  if (h.d.y() > 1e-6f) h.t = table_height_m / h.d.y();  // the table plane, seen from above
+  for (const Placed& p : placed) {
+    const Eigen::Vector3f o = p.X_OC.translation();
+    const Eigen::Vector3f dl = p.X_OC.linear() * h.d;
+    if (!p.MayHit(o, dl, h.t)) continue;
+    for (const auto& part : p.object->shape.parts) {
+      Eigen::Vector3f n;
+      const float t = Intersect(part, o, dl, &n);
+      if (t < h.t) {
+        h.t = t;
+        h.normal = p.object->pose.linear() * n;
+        h.label = p.object->label;
+      }
+    }
+  }
+  return h;
+}
+
+// Whether the sensor returns a depth for a hit: in range, not at a grazing angle, lit by the
+// projector. Geometry only: the noise moves depths, it never decides which pixels return.
+bool Returns(const Hit& h, const std::vector<Placed>& placed, float table_height_m,
+             const KinectNoise& noise) {
+  const double z = h.t * h.d.z();
+  if (z < noise.min_range_m || z > noise.max_range_m) return false;
+  if (!noise.enabled) return true;
+  if (std::abs(h.normal.dot(h.d)) < noise.grazing_cos) return false;
+  return !(noise.projector_shadows &&
+           Shadowed(placed, table_height_m, h.t * h.d,
+                    Eigen::Vector3f(static_cast<float>(noise.baseline_m), 0, 0)));
+}
+
 }  // namespace
 
 RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_height_m,
@@ -122,52 +166,22 @@ RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_h
   f.label.assign(f.cloud.size(), 0);
   std::mt19937 rng(seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
-  // Rays in each object's frame are the camera rays moved by X_OC.
   std::vector<Placed> placed;
   for (const auto& o : objects) placed.emplace_back(o);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   for (int v = 0; v < k.height; ++v) {
     for (int u = 0; u < k.width; ++u) {
-      const Eigen::Vector3f ray(static_cast<float>((u - k.cx) / k.fx),
-                                static_cast<float>((v - k.cy) / k.fy), 1.0f);
-      const Eigen::Vector3f d = ray.normalized();
-      float best = kInf;
-      Eigen::Vector3f best_normal = -Eigen::Vector3f::UnitY();
-      std::uint32_t best_label = 0;
-      if (d.y() > 1e-6f) {  // the table plane, seen from above
-        best = table_height_m / d.y();
-        best_normal = -Eigen::Vector3f::UnitY();
-      }
-      for (std::size_t i = 0; i < objects.size(); ++i) {
-        const Eigen::Vector3f o = placed[i].X_OC.translation();
-        const Eigen::Vector3f dl = placed[i].X_OC.linear() * d;
-        if (!placed[i].MayHit(o, dl, best)) continue;
-        for (const auto& part : objects[i].shape.parts) {
-          Eigen::Vector3f n;
-          const float t = Intersect(part, o, dl, &n);
-          if (t < best) {
-            best = t;
-            best_normal = objects[i].pose.linear() * n;
-            best_label = objects[i].label;
-          }
-        }
-      }
+      const Hit h = Cast(placed, table_height_m, k, u, v);
       auto& p = f.cloud[static_cast<std::size_t>(v) * k.width + u];
       p.x = p.y = p.z = nan;
       p.r = p.g = p.b = 128;
       p.a = 255;
-      if (!std::isfinite(best)) continue;
-      double z = best * d.z();
-      const double incidence = std::abs(best_normal.dot(d));
+      if (!std::isfinite(h.t)) continue;
       // Draw the noise for every pixel, so a pixel's noise does not depend on its neighbours.
       const double n1 = gauss(rng);
-      if (z < noise.min_range_m || z > noise.max_range_m) continue;
+      if (!Returns(h, placed, table_height_m, noise)) continue;
+      double z = h.t * h.d.z();
       if (noise.enabled) {
-        if (incidence < noise.grazing_cos) continue;
-        if (noise.projector_shadows &&
-            Shadowed(placed, table_height_m, best * d,
-                     Eigen::Vector3f(static_cast<float>(noise.baseline_m), 0, 0)))
-          continue;
         z += noise.sigma_at_1m_m * z * z * n1;
         // Disparity quantization: the Kinect measures disparity in 1/8 pixel steps.
         const double disparity = k.fx * noise.baseline_m / z;
@@ -177,11 +191,44 @@ RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_h
       p.z = static_cast<float>(z);
       p.x = static_cast<float>((u - k.cx) * z / k.fx);
       p.y = static_cast<float>((v - k.cy) * z / k.fy);
-      f.label[static_cast<std::size_t>(v) * k.width + u] = best_label;
-      if (best_label) p.r = 200, p.g = 60, p.b = 40;
+      f.label[static_cast<std::size_t>(v) * k.width + u] = h.label;
+      if (h.label) p.r = 200, p.g = 60, p.b = 40;
     }
   }
   return f;
+}
+
+std::size_t CountReturns(const std::vector<SceneObject>& objects, float table_height_m,
+                         const CameraIntrinsics& k, const KinectNoise& noise, std::uint32_t label) {
+  std::vector<Placed> placed;
+  for (const auto& o : objects) placed.emplace_back(o);
+  // Only the pixels onto which the labelled objects' bounding spheres project can hold them.
+  int u0 = k.width, v0 = k.height, u1 = -1, v1 = -1;
+  for (const Placed& p : placed) {
+    if (p.object->label != label) continue;
+    const Eigen::Vector3f c = p.object->pose * p.centre;
+    const float near = c.z() - p.radius;
+    if (near <= 1e-3f) {  // around or behind the camera: every pixel may see it
+      u0 = v0 = 0, u1 = k.width - 1, v1 = k.height - 1;
+      continue;
+    }
+    // The sphere's image lies within its centre's projection +- f R / (z - R).
+    const double ru = k.fx * p.radius / near + 1, rv = k.fy * p.radius / near + 1;
+    const double cu = k.fx * c.x() / c.z() + k.cx, cv = k.fy * c.y() / c.z() + k.cy;
+    u0 = std::min(u0, static_cast<int>(std::floor(std::max(0.0, cu - ru))));
+    v0 = std::min(v0, static_cast<int>(std::floor(std::max(0.0, cv - rv))));
+    u1 = std::max(u1, static_cast<int>(std::ceil(std::min(k.width - 1.0, cu + ru))));
+    v1 = std::max(v1, static_cast<int>(std::ceil(std::min(k.height - 1.0, cv + rv))));
+  }
+  std::size_t count = 0;
+  for (int v = v0; v <= v1; ++v) {
+    for (int u = u0; u <= u1; ++u) {
+      const Hit h = Cast(placed, table_height_m, k, u, v);
+      if (h.label == label && std::isfinite(h.t) && Returns(h, placed, table_height_m, noise))
+        ++count;
+    }
+  }
+  return count;
 }
 
 Cloud CutModel(const RenderedFrame& frame, std::uint32_t label, const Eigen::Isometry3f& X_CO) {

@@ -66,6 +66,13 @@ RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_h
                           const CameraIntrinsics& intrinsics, const KinectNoise& noise,
                           std::uint32_t seed);
 
+/// How many pixels of the objects labelled `label` RenderScene would return, with the same
+/// geometry and sensor model but without drawing noise (noise moves depths; it never decides
+/// which pixels return). Visits only the pixels onto which those objects can project.
+std::size_t CountReturns(const std::vector<SceneObject>& objects, float table_height_m,
+                         const CameraIntrinsics& intrinsics, const KinectNoise& noise,
+                         std::uint32_t label);
+
 /// The points of `label` in a frame, moved into the object's own frame by X_OC = X_CO^-1:
 /// a model "cut from a capture", as a user would make one.
 Cloud CutModel(const RenderedFrame& frame, std::uint32_t label, const Eigen::Isometry3f& X_CO);
