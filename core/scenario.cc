@@ -56,9 +56,9 @@ std::vector<Scenario::Clutter> ProtocolClutter(std::uint32_t seed, const Eigen::
         c.shape.parts.push_back(Part::Box({0, 0, 0}, {s, 0.8f * s + 0.02f, 0.7f * s}));
         c.bottom_y_m = 0.8f * s + 0.02f;
         break;
-      case 1:
-        c.shape.parts.push_back(Part::Sphere({0, 0, 0}, s));
-        c.bottom_y_m = s;
+      case 1:  // balls, but clearly smaller than the 8 cm one sought (2-5 cm)
+        c.shape.parts.push_back(Part::Sphere({0, 0, 0}, 0.7f * s));
+        c.bottom_y_m = 0.7f * s;
         break;
       default:  // a can: tall and narrow
         c.shape.parts.push_back(Part::Box({0, 0, 0}, {0.6f * s, 2.0f * s, 0.6f * s}));
