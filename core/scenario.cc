@@ -207,14 +207,25 @@ std::optional<Scenario> ScenarioPreset(const std::string& name) {
   return s;
 }
 
-Cloud SyntheticTargetModel(std::uint32_t seed, const CameraIntrinsics& intrinsics) {
-  Scenario capture = *ScenarioPreset("static");
+Cloud CaptureTargetModel(Scenario capture, std::uint32_t seed, const CameraIntrinsics& intrinsics) {
   capture.seed = seed;
   capture.clutter.clear();  // the model is made from the target alone
-  capture.target_motion.start_xz_m = {0.0f, 0.9f};
-  capture.target_motion.yaw_rad = 0.35f;
+  capture.occluded_frames = 0;
   const ScenarioFrame frame = RenderScenarioFrame(capture, 0, intrinsics);
   return CutModel(frame.rendered, kTargetLabel, frame.truth.target_pose);
+}
+
+Cloud SyntheticTargetModel(std::uint32_t seed, const CameraIntrinsics& intrinsics) {
+  Scenario capture = *ScenarioPreset("static");
+  capture.target_motion.start_xz_m = {0.0f, 0.9f};
+  capture.target_motion.yaw_rad = 0.35f;
+  return CaptureTargetModel(capture, seed, intrinsics);
+}
+
+Cloud SyntheticBallModel(std::uint32_t seed, const CameraIntrinsics& intrinsics) {
+  Scenario capture = *ScenarioPreset("paper-protocol");
+  capture.target_motion.start_xz_m = {0.0f, 0.9f};
+  return CaptureTargetModel(capture, seed, intrinsics);
 }
 
 CrossCaptureCase MakeDemoCase(std::uint32_t seed, const CameraIntrinsics& intrinsics) {

@@ -102,6 +102,14 @@ struct CrossCaptureCase {
   Eigen::Isometry3f truth = Eigen::Isometry3f::Identity();
   int clutter_objects = 0;
 };
+/// A model of a scenario's target as a user would make one: the target alone (no clutter, no
+/// occluder) captured once by the synthetic Kinect with `seed`, cut out, in its own frame.
+Cloud CaptureTargetModel(Scenario scenario, std::uint32_t seed,
+                         const CameraIntrinsics& intrinsics = {});
+
+/// The paper-protocol ball's model, captured from 0.9 m (synthetic:ball).
+Cloud SyntheticBallModel(std::uint32_t seed, const CameraIntrinsics& intrinsics = {});
+
 /// The synthetic target's model as a user would make it: the target alone, captured once by
 /// the synthetic Kinect (seeded) from its own viewpoint, cut out and expressed in its frame.
 Cloud SyntheticTargetModel(std::uint32_t seed, const CameraIntrinsics& intrinsics = {});

@@ -24,6 +24,11 @@ commands:
             subscribe to saccaded's fixations and log them until SIGINT (or N of them)
   fixations LOG.lcmlog --out FILE.csv|FILE.jsonl [--channel SACCADE_FIXATION]
             convert the fixations in an lcm-logger log to the same format
+  eval      --dataset DIR|SPEC --model M --configs FILE.yaml [--out DIR] [--model-centre x,y,z]
+            [--sphere-radius R] [--sweep NAME,...] [--reference NAME] [--frames N] [--no-plots]
+            run recognition configurations over frames with ground truth; write Table 7 style
+            tables (CSV, Markdown), TP/FP against the distance threshold, the fovea-distance
+            sweep, and their PNG plots (gnuplot)
   demo      [--seed N]
             render a synthetic Kinect scene and find in it a target modelled from another
             capture; exit 1 when the target is not found
@@ -46,6 +51,7 @@ int main(int argc, char** argv) {
   if (command == "record") return saccade::RunRecord(args, std::cout, std::cerr);
   if (command == "log-fixations") return saccade::RunLogFixations(args, std::cout, std::cerr);
   if (command == "fixations") return saccade::RunFixations(args, std::cout, std::cerr);
+  if (command == "eval") return saccade::RunEval(args, std::cout, std::cerr);
   if (command == "demo") return saccade::RunDemo(args, std::cout, std::cerr);
   std::cerr << "saccade: unknown command '" << command << "' (see saccade --help)\n";
   return saccade::kExitUsage;

@@ -118,18 +118,19 @@ std::optional<Eigen::Matrix4f> LoadPose(const std::string& path, std::string* er
 }
 
 std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error) {
-  const std::string synthetic = "synthetic:target";
-  if (spec.compare(0, synthetic.size(), synthetic) != 0) return LoadCloud(spec, error);
-  const std::string rest = spec.substr(synthetic.size());
-  unsigned seed = 1;
-  if (!rest.empty()) {
+  for (const std::string name : {"target", "ball"}) {
+    const std::string prefix = "synthetic:" + name;
+    if (spec.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string rest = spec.substr(prefix.size());
+    unsigned seed = 1;
     char tail = 0;
-    if (std::sscanf(rest.c_str(), "?seed=%u%c", &seed, &tail) != 1) {
-      *error = spec + ": expected synthetic:target or synthetic:target?seed=N";
+    if (!rest.empty() && std::sscanf(rest.c_str(), "?seed=%u%c", &seed, &tail) != 1) {
+      *error = spec + ": expected " + prefix + " or " + prefix + "?seed=N";
       return std::nullopt;
     }
+    return name == "target" ? SyntheticTargetModel(seed) : SyntheticBallModel(seed);
   }
-  return SyntheticTargetModel(seed);
+  return LoadCloud(spec, error);
 }
 
 }  // namespace saccade

@@ -12,8 +12,9 @@ namespace saccade {
 /// nullopt with `error` = "PATH: reason" when missing, unreadable, corrupt or without x/y/z.
 std::optional<Cloud> LoadCloud(const std::string& path, std::string* error);
 
-/// A model by spec: a PCD path, or synthetic:target[?seed=N] (the synthetic Kinect's target as
-/// SyntheticTargetModel captures it; seed 1 by default). Errors as LoadCloud.
+/// A model by spec: a PCD path, or synthetic:target[?seed=N] / synthetic:ball[?seed=N] (the
+/// synthetic Kinect's target or paper-protocol ball, captured alone; seed 1 by default).
+/// Errors as LoadCloud.
 std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error);
 
 /// Writes a binary-compressed PCD; false with `error` on failure.

@@ -333,4 +333,55 @@ bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, s
   return true;
 }
 
+bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& base,
+                            std::vector<EvalConfiguration>* out, std::string* error) {
+  YAML::Node root;
+  if (!LoadRoot(path, &root, error)) return false;
+  if (root.IsNull() || !root["configurations"] || !root["configurations"].IsSequence() ||
+      root.size() != 1) {
+    *error = path + ": expected exactly one key, 'configurations', holding a list";
+    return false;
+  }
+  out->clear();
+  const YAML::Node list = root["configurations"];
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string entry = "configurations[" + std::to_string(i) + "]";
+    if (!list[i].IsMap()) {
+      *error = path + ": key '" + entry + "': expected a mapping";
+      return false;
+    }
+    EvalConfiguration c;
+    c.config = base;
+    c.name = std::to_string(i);
+    const ConfigKeys recognition = RecognitionKeys(&c.config.recognition);
+    const ConfigKeys fovea = FoveaKeys(&c.config.fovea);
+    for (const auto& kv : list[i]) {
+      const std::string key = kv.first.as<std::string>();
+      const std::string qualified = entry + "." + key;
+      bool ok = true;
+      if (key == "recognition") {
+        ok = ApplySection(kv.second, qualified, recognition.setters, path, error);
+      } else if (key == "fovea") {
+        ok = ApplySection(kv.second, qualified, fovea.setters, path, error);
+      } else {
+        const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)},
+                                                   {"pipeline", Scalar(&c.pipeline)}};
+        ok = ApplyKey(top, key, qualified, kv.second, path, error);
+      }
+      if (!ok) return false;
+    }
+    std::string why;
+    if (c.pipeline != "foveated" && c.pipeline != "plain" && c.pipeline != "stock") {
+      *error = path + ": key '" + entry + ".pipeline': expected foveated | plain | stock";
+      return false;
+    }
+    if (!c.config.recognition.IsValid(&why) || !c.config.fovea.IsValid(&why)) {
+      *error = path + ": " + entry + " (" + c.name + "): " + why;
+      return false;
+    }
+    out->push_back(std::move(c));
+  }
+  return true;
+}
+
 }  // namespace saccade

@@ -60,6 +60,22 @@ struct RecognitionConfig {
 /// unknown key, wrong type, out-of-range value or unreadable file.
 bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, std::string* error);
 
+/// One configuration of an evaluation: how to search (foveated with our stages, plain with our
+/// stages, or plain with PCL's stock stages: the paper's gold standard) and the options.
+struct EvalConfiguration {
+  std::string name;
+  std::string pipeline = "foveated";  // foveated | plain | stock
+  RecognitionConfig config;
+};
+
+/// An evaluation's configurations file:
+///   configurations:
+///     - {name: "1", pipeline: foveated, recognition: {...}, fovea: {...}}
+/// Each entry starts from `base` and applies its sections; strict as LoadRecognitionConfig,
+/// errors name the entry ("configurations[3].fovea.levels_m").
+bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& base,
+                            std::vector<EvalConfiguration>* out, std::string* error);
+
 /// A synthetic scenario file: `preset: NAME` (required, the starting point), then any of
 /// name, frames, rate_hz, seed, table_height_m, occluded_from, occluded_frames, and the
 /// sections target_motion / camera_motion (Trajectory fields; kind: static | linear | circular

@@ -6,11 +6,15 @@
 #include <sys/wait.h>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -141,6 +145,78 @@ TEST(Cli, MissingOpenNI2DeviceIsOneLineAndExitOne) {
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(Lines(r.out), 1) << r.out;
   EXPECT_NE(r.out.find("openni2://: no OpenNI2 device found"), std::string::npos) << r.out;
+}
+
+// saccade eval on a two-scene subset of the paper-protocol set: every output is written and
+// the tables agree with each other.
+TEST(Cli, EvalWritesTablesCurvesSweepAndPlots) {
+  const std::string configs = WriteFile("eval_configs.yaml", R"(configurations:
+  - name: "saccade"
+    pipeline: foveated
+  - name: "9"
+    pipeline: plain
+    recognition: {scene_keypoint_radius_m: 0.01}
+)");
+  const std::string dir = ::testing::TempDir() + "cli_eval";
+  std::system(("rm -rf " + dir).c_str());
+  const CliRun r = Saccade(
+      "eval --dataset 'synthetic:paper-protocol' --frames 2 --model "
+      "synthetic:ball --model-centre 0,0,0 --sphere-radius 0.08 --configs " +
+      configs + " --out " + dir + " --sweep saccade --reference 9");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* name : {"table.csv", "table.md", "thresholds.csv", "sweep.csv", "plot.gp",
+                           "thresholds_tp.png", "thresholds_fp.png", "sweep.png"}) {
+    std::ifstream f(dir + "/" + name, std::ios::binary | std::ios::ate);
+    EXPECT_TRUE(f.good() && f.tellg() > 0) << name;
+  }
+  // table.csv: a header and one row per configuration, each over the 2 frames.
+  std::ifstream table(dir + "/table.csv");
+  std::string line;
+  std::getline(table, line);
+  EXPECT_EQ(line.rfind("name,pipeline,mean_ms,tp,fp", 0), 0u) << line;
+  std::map<std::string, int> tp_at_8cm;
+  while (std::getline(table, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 8u) << line;
+    EXPECT_EQ(cells[7], "2") << line;
+    const int tp = std::stoi(cells[3]);
+    EXPECT_GE(tp, 0);
+    EXPECT_LE(tp, 2);
+    tp_at_8cm[cells[0]] = tp;
+  }
+  EXPECT_EQ(tp_at_8cm.size(), 2u);
+  // thresholds.csv: TP never falls as the threshold grows, and matches the table at 8 cm.
+  std::ifstream curves(dir + "/thresholds.csv");
+  std::getline(curves, line);
+  std::map<std::string, int> last;
+  while (std::getline(curves, line)) {
+    std::stringstream row(line);
+    std::string name, threshold, tp;
+    std::getline(row, name, ',');
+    std::getline(row, threshold, ',');
+    std::getline(row, tp, ',');
+    EXPECT_GE(std::stoi(tp), last[name]) << line;
+    last[name] = std::stoi(tp);
+    if (std::abs(std::stod(threshold) - 0.08) < 1e-9) {
+      EXPECT_EQ(std::stoi(tp), tp_at_8cm[name]) << name;
+    }
+  }
+  std::ifstream sweep(dir + "/sweep.csv");
+  EXPECT_EQ(std::count(std::istreambuf_iterator<char>(sweep), {}, '\n'), 1 + 8);  // 0-35 cm by 5
+}
+
+TEST(Cli, EvalRejectsABadConfigurationsFileNamingTheEntry) {
+  const std::string configs =
+      WriteFile("bad_eval.yaml", "configurations:\n  - name: a\n    fovea: {levels_m: zero}\n");
+  const CliRun r = Saccade(
+      "eval --dataset synthetic:paper-protocol --model synthetic:ball "
+      "--configs " +
+      configs);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("configurations[0].fovea.levels_m"), std::string::npos) << r.out;
 }
 
 }  // namespace

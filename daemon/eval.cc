@@ -1,0 +1,303 @@
+// `saccade eval`: recognition configurations over a dataset with ground truth, scored with the
+// paper's rule (§5.3), written as CSV and Markdown tables and plotted with gnuplot.
+#include "core/evaluation.h"
+#include "core/recognition.h"
+#include "core/reference_pipeline.h"
+#include "daemon/args.h"
+#include "daemon/commands.h"
+#include "daemon/tbb_parallel.h"
+#include "io/cloud_io.h"
+#include "io/config.h"
+#include "io/frame_source.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+
+namespace saccade {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One frame of the dataset and what is true of it.
+struct Scene {
+  Frame frame;
+  Eigen::Vector3f truth_m = Eigen::Vector3f::Zero();  // the generator's (or recording's) centre
+  std::optional<Eigen::Vector3f> sphere_truth_m;      // the RANSAC sphere fit's centre
+};
+
+// What one configuration found in one frame, with the fovea at one offset from the truth.
+struct Trial {
+  double ms = 0;
+  std::vector<Eigen::Vector3f> centres;  // each instance's model centre in the scene
+};
+
+// DIR (a recorded folder: PCD files or depth images) or any source spec.
+std::string DatasetSpec(const std::string& dataset) {
+  if (dataset.find(':') != std::string::npos) return dataset;
+  for (const auto& entry : fs::directory_iterator(dataset))
+    if (entry.path().extension() == ".pcd") return "pcd:" + dataset;
+  return "depth:" + dataset;
+}
+
+double Mean(const std::vector<double>& v) {
+  double sum = 0;
+  for (double x : v) sum += x;
+  return v.empty() ? 0 : sum / static_cast<double>(v.size());
+}
+
+class Runner {
+ public:
+  Runner(const Cloud& model, const Eigen::Vector3f& model_centre, ParallelFor parallel)
+      : model_(model), model_centre_(model_centre), parallel_(std::move(parallel)) {}
+
+  // Runs `c` over every scene with the fovea at truth + offset; false with `error` when the
+  // model cannot be described.
+  bool Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
+           const Eigen::Vector3f& offset, std::vector<Trial>* trials, std::string* error) const {
+    trials->clear();
+    const RecognitionOptions& o = c.config.recognition;
+    const bool is_stock = c.pipeline == "stock";
+    const std::optional<ReferenceModel> stock =
+        is_stock ? DescribeReferenceModel(model_, o, error) : std::nullopt;
+    const std::optional<ModelDescription> described =
+        is_stock ? std::nullopt : DescribeModel(model_, o, error);
+    if (!stock && !described) return false;
+    for (const Scene& s : scenes) {
+      SceneQuery q;
+      q.foveated = c.pipeline == "foveated";
+      q.fovea_m = s.truth_m + offset;
+      q.fovea = c.config.fovea;
+      q.intrinsics = s.frame.intrinsics;
+      const auto t0 = std::chrono::steady_clock::now();
+      const RecognitionResult r = stock ? RecognizeReference(*stock, *s.frame.cloud, o)
+                                        : Recognize(*described, *s.frame.cloud, q, o, parallel_);
+      Trial t;
+      t.ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      for (const Detection& d : r.instances)
+        t.centres.push_back((d.model_to_scene * model_centre_.homogeneous()).head<3>());
+      trials->push_back(std::move(t));
+    }
+    return true;
+  }
+
+ private:
+  const Cloud& model_;
+  const Eigen::Vector3f model_centre_;
+  const ParallelFor parallel_;
+};
+
+struct Totals {
+  int tp = 0, fp = 0, tp_sphere = 0, fp_sphere = 0;
+};
+
+Totals Score(const std::vector<Trial>& trials, const std::vector<Scene>& scenes, float threshold) {
+  Totals t;
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    const SceneScore s = ScoreScene(trials[i].centres, scenes[i].truth_m, threshold);
+    t.tp += s.true_positives;
+    t.fp += s.false_positives;
+    if (scenes[i].sphere_truth_m) {
+      const SceneScore f = ScoreScene(trials[i].centres, *scenes[i].sphere_truth_m, threshold);
+      t.tp_sphere += f.true_positives;
+      t.fp_sphere += f.false_positives;
+    }
+  }
+  return t;
+}
+
+}  // namespace
+
+int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
+  Args args;
+  std::string error;
+  if (!args.Parse(argv,
+                  {"dataset", "model", "configs", "out", "model-centre", "sphere-radius",
+                   "reference", "frames", "sweep"},
+                  {"no-plots"}, &error))
+    return Usage(err, "eval", error);
+  for (const char* required : {"dataset", "model", "configs"})
+    if (!args.Has(required)) return Usage(err, "eval", std::string("missing --") + required);
+  const auto fail = [&](const std::string& message) {
+    err << "saccade eval: " << message << "\n";
+    return kExitFailure;
+  };
+
+  std::vector<EvalConfiguration> configs;
+  if (!LoadEvalConfigurations(args.Get("configs"), RecognitionConfig{}, &configs, &error))
+    return fail(error);
+  std::optional<Cloud> model = LoadModelCloud(args.Get("model"), &error);
+  if (!model) return fail(error);
+  Eigen::Vector3f model_centre = Eigen::Vector3f::Zero();
+  bool centre_given = false;
+  if (args.Has("model-centre")) {
+    const auto c = Args::ParseVector3(args.Get("model-centre"));
+    if (!c) return Usage(err, "eval", "--model-centre expects x,y,z in the model's frame");
+    model_centre = *c;
+    centre_given = true;
+  }
+  if (!centre_given) {
+    int n = 0;
+    for (const PointT& p : *model)
+      if (std::isfinite(p.z)) model_centre += p.getVector3fMap(), ++n;
+    if (n == 0) return fail(args.Get("model") + ": the model has no valid point");
+    model_centre /= static_cast<float>(n);
+  }
+  std::optional<float> sphere_radius;
+  if (args.Has("sphere-radius")) {
+    const float r = std::strtof(args.Get("sphere-radius").c_str(), nullptr);
+    if (!(r > 0)) return Usage(err, "eval", "--sphere-radius expects metres > 0");
+    sphere_radius = r;
+  }
+  int max_frames = 1 << 30;
+  if (args.Has("frames")) {
+    const auto n = Args::ParsePositiveInt(args.Get("frames"));
+    if (!n) return Usage(err, "eval", "--frames expects a positive integer");
+    max_frames = *n;
+  }
+  std::vector<std::string> sweep_names;
+  if (args.Has("sweep")) {
+    std::stringstream names(args.Get("sweep"));
+    for (std::string name; std::getline(names, name, ',');) sweep_names.push_back(name);
+  }
+
+  // The dataset, every frame with its truth.
+  std::error_code ec;
+  const std::string dataset = args.Get("dataset");
+  if (dataset.find(':') == std::string::npos && !fs::is_directory(dataset, ec))
+    return fail(dataset + ": not a folder or a source spec");
+  auto source = OpenSource(DatasetSpec(dataset), &error);
+  if (!source) return fail(error);
+  std::vector<Scene> scenes;
+  SphereFitOptions sphere_options;
+  if (sphere_radius) {
+    sphere_options.min_radius_m = *sphere_radius * 0.75f;
+    sphere_options.max_radius_m = *sphere_radius * 1.25f;
+  }
+  while (static_cast<int>(scenes.size()) < max_frames) {
+    Scene s;
+    const auto status = source->Next(&s.frame, &error);
+    if (status == FrameSource::Status::kEnd) break;
+    if (status == FrameSource::Status::kError) return fail(error);
+    if (!s.frame.truth)
+      return fail(dataset + ": frame " + std::to_string(s.frame.sequence) +
+                  " has no ground truth (truth.csv beside the frames)");
+    s.truth_m = s.frame.truth->centroid_m;
+    if (sphere_radius) {
+      if (const auto sphere = FitSphere(*s.frame.cloud, sphere_options))
+        s.sphere_truth_m = sphere->centre_m;
+    }
+    scenes.push_back(std::move(s));
+  }
+  if (scenes.empty()) return fail(dataset + ": no frames");
+
+  const fs::path dir = args.Get("out", "eval-out");
+  fs::create_directories(dir, ec);
+  if (ec) return fail(dir.string() + ": cannot create it (" + ec.message() + ")");
+  Runner runner(*model, model_centre, MakeTbbParallelFor());
+  std::vector<std::vector<Trial>> trials(configs.size());
+  std::vector<double> mean_ms(configs.size());
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    if (!runner.Run(configs[c], scenes, Eigen::Vector3f::Zero(), &trials[c], &error))
+      return fail("configuration " + configs[c].name + ": " + error);
+    std::vector<double> ms;
+    for (const Trial& t : trials[c]) ms.push_back(t.ms);
+    mean_ms[c] = Mean(ms);
+    err << "saccade eval: configuration " << configs[c].name << " done\n";
+  }
+  const std::string reference = args.Get("reference", "10");
+  double reference_ms = 0;
+  for (std::size_t c = 0; c < configs.size(); ++c)
+    if (configs[c].name == reference) reference_ms = mean_ms[c];
+
+  // Table 7.
+  std::ofstream csv(dir / "table.csv"), md(dir / "table.md");
+  csv << "name,pipeline,mean_ms,tp,fp,tp_sphere,fp_sphere,frames,speedup_vs_" << reference << "\n";
+  md << "| config | pipeline | mean ms / frame | TP | FP | TP (sphere fit) | FP (sphere fit) | "
+        "x faster than "
+     << reference << " |\n|---|---|---|---|---|---|---|---|\n";
+  out << std::fixed << std::setprecision(2);
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    const Totals t = Score(trials[c], scenes, 0.08f);
+    const double speedup = reference_ms > 0 ? reference_ms / std::max(1e-9, mean_ms[c]) : 0;
+    const std::string tp_s = sphere_radius ? std::to_string(t.tp_sphere) : "";
+    const std::string fp_s = sphere_radius ? std::to_string(t.fp_sphere) : "";
+    csv << configs[c].name << ',' << configs[c].pipeline << ',' << mean_ms[c] << ',' << t.tp << ','
+        << t.fp << ',' << tp_s << ',' << fp_s << ',' << scenes.size() << ',' << speedup << "\n";
+    md << "| " << configs[c].name << " | " << configs[c].pipeline << " | " << std::fixed
+       << std::setprecision(1) << mean_ms[c] << " | " << t.tp << " | " << t.fp << " | "
+       << (sphere_radius ? tp_s : "-") << " | " << (sphere_radius ? fp_s : "-") << " | "
+       << std::setprecision(1) << speedup << " |\n";
+    out << std::setw(10) << configs[c].name << std::setw(10) << configs[c].pipeline << std::setw(10)
+        << mean_ms[c] << " ms  TP " << t.tp << "  FP " << t.fp;
+    if (sphere_radius) out << "  (sphere fit: TP " << t.tp_sphere << "  FP " << t.fp_sphere << ")";
+    if (reference_ms > 0) out << "  " << speedup << "x vs " << reference;
+    out << "\n";
+  }
+
+  // Fig. 8 and 9: true and false positives as the distance threshold varies.
+  std::ofstream th(dir / "thresholds.csv");
+  th << "name,threshold_m,tp,fp\n";
+  for (std::size_t c = 0; c < configs.size(); ++c)
+    for (int k = 1; k <= 20; ++k) {
+      const Totals t = Score(trials[c], scenes, 0.005f * k);
+      th << configs[c].name << ',' << 0.005 * k << ',' << t.tp << ',' << t.fp << "\n";
+    }
+
+  // Fig. 10: the fovea moved 0-35 cm from the object along x.
+  std::ofstream sw(dir / "sweep.csv");
+  sw << "name,offset_m,tp,fp,mean_ms\n";
+  for (const std::string& name : sweep_names) {
+    const auto it = std::find_if(configs.begin(), configs.end(),
+                                 [&](const EvalConfiguration& c) { return c.name == name; });
+    if (it == configs.end()) return fail("--sweep: no configuration named '" + name + "'");
+    for (int cm = 0; cm <= 35; cm += 5) {
+      std::vector<Trial> moved;
+      if (!runner.Run(*it, scenes, Eigen::Vector3f(0.01f * cm, 0, 0), &moved, &error))
+        return fail(error);
+      const Totals t = Score(moved, scenes, 0.08f);
+      std::vector<double> ms;
+      for (const Trial& m : moved) ms.push_back(m.ms);
+      sw << name << ',' << 0.01 * cm << ',' << t.tp << ',' << t.fp << ',' << Mean(ms) << "\n";
+    }
+  }
+  csv.close(), md.close(), th.close(), sw.close();
+
+  if (!args.Has("no-plots")) {
+    std::string names, swept;
+    for (const auto& c : configs) names += c.name + " ";
+    for (const auto& n : sweep_names) swept += n + " ";
+    // The script is left beside the data, to restyle the plots by hand.
+    std::ofstream gp(dir / "plot.gp");
+    gp << "# gnuplot script written by saccade eval; run: gnuplot plot.gp (in this folder)\n"
+       << "set datafile separator ','\nset terminal pngcairo size 900,600\nset grid\n"
+       << "set key outside right\nnames = '" << names << "'\nswept = '" << swept << "'\n"
+       << "set xlabel 'distance threshold (cm)'\n"
+       << "set output 'thresholds_tp.png'\nset ylabel 'true positives'\n"
+       << "plot for [n in names] 'thresholds.csv' using ($2*100):(strcol(1) eq n ? $3 : 1/0) "
+          "with linespoints title n\n"
+       << "set output 'thresholds_fp.png'\nset ylabel 'false positives'\n"
+       << "plot for [n in names] 'thresholds.csv' using ($2*100):(strcol(1) eq n ? $4 : 1/0) "
+          "with linespoints title n\n"
+       << "set output 'sweep.png'\nset xlabel 'fovea distance from the object (cm)'\n"
+       << "set ylabel 'true positives'\n"
+       << "if (strlen(swept) > 0) { plot for [n in swept] 'sweep.csv' using ($2*100):"
+          "(strcol(1) eq n ? $3 : 1/0) with linespoints title n } else { "
+          "set label 'no sweep (--sweep)' at graph 0.4,0.5; plot NaN notitle }\n";
+    gp.close();
+    const std::string command = "cd '" + dir.string() + "' && gnuplot plot.gp";
+    if (std::system(command.c_str()) != 0)
+      return fail("gnuplot failed (" + command + "); the CSV and Markdown files are written");
+  }
+  out << "written to " << dir.string() << "/: table.csv table.md thresholds.csv sweep.csv"
+      << (args.Has("no-plots") ? "" : " thresholds_tp.png thresholds_fp.png sweep.png") << "\n";
+  return kExitOk;
+}
+
+}  // namespace saccade
