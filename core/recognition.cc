@@ -100,7 +100,10 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
   out.cloud_.sensor_orientation_ = model.sensor_orientation_;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const auto& p : out.cloud_.points) sum += p.getVector3fMap().cast<double>();
-  out.centroid_ = (sum / static_cast<double>(out.cloud_.size())).cast<float>();
+  out.centroid_ =
+      options.vote_for_model_origin
+          ? Eigen::Vector3f::Zero().eval()
+          : Eigen::Vector3f((sum / static_cast<double>(out.cloud_.size())).cast<float>());
 
   const std::vector<std::uint8_t> mask(out.cloud_.size(), 1);
   const Normals normals = KnnNormals(out.cloud_, mask, options.model_normal_neighbors);

@@ -36,6 +36,11 @@ struct RecognitionOptions {
   /// Levels coarser than this (by d_k) are not described: a SHOT support of a few points is
   /// noise (PERFORMANCE.md §2). Their points still count as surface for finer levels.
   float max_described_density_m = 0.01f;
+  /// Correspondences vote for where the model's centroid lies (paper Algorithm 5). With this
+  /// set they vote for the model frame's origin instead: right for a model whose frame is
+  /// centred on the object (a ball cut around its centre), where the centroid of the seen cap
+  /// is off-centre and every local frame's free spin about the normal scatters its votes.
+  bool vote_for_model_origin = false;
   /// Matching: a hierarchical k-means tree over the model descriptors (branching factor) and
   /// the leaves checked per query (more: closer to exact, slower).
   int match_branching = 16;
@@ -60,7 +65,9 @@ class ModelDescription {
 
   const Cloud& cloud() const { return cloud_; }
   const Descriptors& descriptors() const { return descriptors_; }
-  const Eigen::Vector3f& centroid() const { return centroid_; }  // model frame, metres
+  /// The point instances vote for, model frame, metres: the centroid of the model's points, or
+  /// the origin with RecognitionOptions::vote_for_model_origin.
+  const Eigen::Vector3f& centroid() const { return centroid_; }
 
   /// Nearest model descriptor of `shot` (kShotLength floats): index into descriptors() and
   /// squared distance.

@@ -10,6 +10,8 @@
 #include "io/config.h"
 #include "io/frame_source.h"
 
+#include <pcl/console/print.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
@@ -128,6 +130,9 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     err << "saccade eval: " << message << "\n";
     return kExitFailure;
   };
+  // PCL's stock stages (the gold standard) warn for every keypoint with a NaN normal nearby;
+  // on thousands of keypoints that buries the results.
+  pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
 
   std::vector<EvalConfiguration> configs;
   if (!LoadEvalConfigurations(args.Get("configs"), RecognitionConfig{}, &configs, &error))

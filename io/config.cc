@@ -277,6 +277,7 @@ ConfigKeys RecognitionKeys(RecognitionOptions* r) {
       .Add("hough_threshold", &r->hough_threshold)
       .Add("pose_inlier_threshold_m", &r->pose_inlier_threshold_m)
       .Add("max_described_density_m", &r->max_described_density_m)
+      .Add("vote_for_model_origin", &r->vote_for_model_origin)
       .Add("match_branching", &r->match_branching)
       .Add("match_checks", &r->match_checks)
       .Add("match_seed", &r->match_seed);
