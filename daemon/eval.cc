@@ -1,6 +1,7 @@
 // `saccade eval`: recognition configurations over a dataset with ground truth, scored with the
 // paper's rule (§5.3), written as CSV and Markdown tables and plotted with gnuplot.
 #include "core/evaluation.h"
+#include "core/features.h"
 #include "core/recognition.h"
 #include "core/reference_pipeline.h"
 #include "daemon/args.h"
@@ -121,7 +122,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   std::string error;
   if (!args.Parse(argv,
                   {"dataset", "model", "configs", "out", "model-centre", "sphere-radius",
-                   "reference", "frames", "sweep"},
+                   "reference", "frames", "sweep", "truth-pose"},
                   {"no-plots"}, &error))
     return Usage(err, "eval", error);
   for (const char* required : {"dataset", "model", "configs"})
@@ -172,33 +173,59 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     for (std::string name; std::getline(names, name, ',');) sweep_names.push_back(name);
   }
 
-  // The dataset, every frame with its truth.
+  // With --truth-pose, one pose (model to scene) is the truth of every frame: a single
+  // capture such as PCL's milk scene, whose pose file comes with it.
+  std::optional<Eigen::Vector3f> posed_truth;
+  if (args.Has("truth-pose")) {
+    const auto pose = LoadPose(args.Get("truth-pose"), &error);
+    if (!pose) return fail(error);
+    posed_truth = (*pose * model_centre.homogeneous()).head<3>();
+  }
+
+  // The dataset, every frame with its truth: a folder, a source spec, or one PCD file.
   std::error_code ec;
   const std::string dataset = args.Get("dataset");
-  if (dataset.find(':') == std::string::npos && !fs::is_directory(dataset, ec))
-    return fail(dataset + ": not a folder or a source spec");
-  auto source = OpenSource(DatasetSpec(dataset), &error);
-  if (!source) return fail(error);
   std::vector<Scene> scenes;
   SphereFitOptions sphere_options;
   if (sphere_radius) {
     sphere_options.min_radius_m = *sphere_radius * 0.75f;
     sphere_options.max_radius_m = *sphere_radius * 1.25f;
   }
-  while (static_cast<int>(scenes.size()) < max_frames) {
-    Scene s;
-    const auto status = source->Next(&s.frame, &error);
-    if (status == FrameSource::Status::kEnd) break;
-    if (status == FrameSource::Status::kError) return fail(error);
-    if (!s.frame.truth)
-      return fail(dataset + ": frame " + std::to_string(s.frame.sequence) +
-                  " has no ground truth (truth.csv beside the frames)");
-    s.truth_m = s.frame.truth->centroid_m;
+  const auto add_scene = [&](Scene s) {
+    if (posed_truth) {
+      s.truth_m = *posed_truth;
+    } else if (s.frame.truth) {
+      s.truth_m = s.frame.truth->centroid_m;
+    } else {
+      error = dataset + ": frame " + std::to_string(s.frame.sequence) +
+              " has no ground truth (truth.csv beside the frames, or --truth-pose)";
+      return false;
+    }
     if (sphere_radius) {
       if (const auto sphere = FitSphere(*s.frame.cloud, sphere_options))
         s.sphere_truth_m = sphere->centre_m;
     }
     scenes.push_back(std::move(s));
+    return true;
+  };
+  if (fs::is_regular_file(dataset, ec)) {
+    std::optional<Cloud> cloud = LoadCloud(dataset, &error);
+    if (!cloud) return fail(error);
+    Scene s;
+    if (const auto k = EstimateIntrinsics(*cloud)) s.frame.intrinsics = *k;
+    s.frame.cloud = std::make_shared<const Cloud>(std::move(*cloud));
+    if (!add_scene(std::move(s))) return fail(error);
+  } else {
+    if (dataset.find(':') == std::string::npos && !fs::is_directory(dataset, ec))
+      return fail(dataset + ": not a folder, a PCD file or a source spec");
+    auto source = OpenSource(DatasetSpec(dataset), &error);
+    if (!source) return fail(error);
+    while (static_cast<int>(scenes.size()) < max_frames) {
+      Scene s;
+      const auto status = source->Next(&s.frame, &error);
+      if (status == FrameSource::Status::kEnd) break;
+      if (status == FrameSource::Status::kError || !add_scene(std::move(s))) return fail(error);
+    }
   }
   if (scenes.empty()) return fail(dataset + ": no frames");
 
@@ -296,9 +323,10 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
           "(strcol(1) eq n ? $3 : 1/0) with linespoints title n } else { "
           "set label 'no sweep (--sweep)' at graph 0.4,0.5; plot NaN notitle }\n";
     gp.close();
-    const std::string command = "cd '" + dir.string() + "' && gnuplot plot.gp";
+    const std::string command = "cd '" + dir.string() + "' && gnuplot plot.gp 2> plot.log";
     if (std::system(command.c_str()) != 0)
-      return fail("gnuplot failed (" + command + "); the CSV and Markdown files are written");
+      return fail("gnuplot failed (see " + (dir / "plot.log").string() +
+                  "); the CSV and Markdown files are written");
   }
   out << "written to " << dir.string() << "/: table.csv table.md thresholds.csv sweep.csv"
       << (args.Has("no-plots") ? "" : " thresholds_tp.png thresholds_fp.png sweep.png") << "\n";

@@ -13,7 +13,7 @@
 namespace saccade {
 namespace {
 
-constexpr const char* kDefaultUrl = "udpm://239.255.76.67:7667?ttl=0";
+const std::string kDefaultUrl = BusOptions{}.url;
 
 // Opens --out (or stdout for "-") with the format its name asks for.
 bool OpenOutput(const Args& args, std::ostream& out, std::ofstream* file, std::ostream** stream,

@@ -24,8 +24,9 @@ commands:
             subscribe to saccaded's fixations and log them until SIGINT (or N of them)
   fixations LOG.lcmlog --out FILE.csv|FILE.jsonl [--channel SACCADE_FIXATION]
             convert the fixations in an lcm-logger log to the same format
-  eval      --dataset DIR|SPEC --model M --configs FILE.yaml [--out DIR] [--model-centre x,y,z]
-            [--sphere-radius R] [--sweep NAME,...] [--reference NAME] [--frames N] [--no-plots]
+  eval      --dataset DIR|SPEC|FILE.pcd --model M --configs FILE.yaml [--out DIR]
+            [--model-centre x,y,z] [--truth-pose POSE.txt] [--sphere-radius R]
+            [--sweep NAME,...] [--reference NAME] [--frames N] [--no-plots]
             run recognition configurations over frames with ground truth; write Table 7 style
             tables (CSV, Markdown), TP/FP against the distance threshold, the fovea-distance
             sweep, and their PNG plots (gnuplot)

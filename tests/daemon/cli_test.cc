@@ -207,6 +207,39 @@ TEST(Cli, EvalWritesTablesCurvesSweepAndPlots) {
   EXPECT_EQ(std::count(std::istreambuf_iterator<char>(sweep), {}, '\n'), 1 + 8);  // 0-35 cm by 5
 }
 
+// The real milk scene as a one-frame dataset, its pose file as the truth: the gold standard
+// (PCL's stages) and our foveated default both find the carton, once, and nothing else.
+TEST(Cli, EvalScoresTheRealMilkSceneAgainstItsPoseFile) {
+  SACCADE_REQUIRE_DATA("pcl_test/milk_cartoon_all_small_clorox.pcd");
+  const std::string configs = WriteFile("milk_configs.yaml", R"(configurations:
+  - {name: "saccade", pipeline: foveated}
+  - {name: "10", pipeline: stock, recognition: {scene_keypoint_radius_m: 0.02}}
+)");
+  const std::string dir = ::testing::TempDir() + "cli_eval_milk";
+  std::system(("rm -rf " + dir).c_str());
+  using saccade::testing::DataPath;
+  const CliRun r = Saccade(
+      "eval --dataset " + DataPath("pcl_test/milk_cartoon_all_small_clorox.pcd") +
+      " --truth-pose " + DataPath("pcl_data/correspondence_grouping/milk_pose_in_scene.txt") +
+      " --model " + DataPath("pcl_data/correspondence_grouping/milk.pcd") + " --configs " +
+      configs + " --out " + dir + " --no-plots");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream table(dir + "/table.csv");
+  std::string header, line;
+  std::getline(table, header);
+  int rows = 0;
+  while (std::getline(table, line)) {
+    ++rows;
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 5u) << line;
+    EXPECT_EQ(cells[3], "1") << line;  // TP
+    EXPECT_EQ(cells[4], "0") << line;  // FP
+  }
+  EXPECT_EQ(rows, 2);
+}
+
 TEST(Cli, EvalRejectsABadConfigurationsFileNamingTheEntry) {
   const std::string configs =
       WriteFile("bad_eval.yaml", "configurations:\n  - name: a\n    fovea: {levels_m: zero}\n");
