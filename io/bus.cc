@@ -152,7 +152,13 @@ class LcmBus : public Bus {
     pollfd fds[2] = {{lcm_->getFileno(), POLLIN, 0}, {wake_[0], POLLIN, 0}};
     while (!stop_) {
       if (poll(fds, 2, -1) < 0) continue;  // EINTR
-      if (fds[0].revents & POLLIN) lcm_->handle();
+      if (fds[0].revents & (POLLERR | POLLHUP | POLLNVAL)) {
+        // A dead socket would wake poll forever: stop listening, keep publishing.
+        Log(LogLevel::kError, "LCM: the command socket failed; commands are off from now on");
+        return;
+      }
+      if ((fds[0].revents & POLLIN) && lcm_->handle() != 0)
+        Log(LogLevel::kWarning, "LCM: a message could not be received");
     }
   }
 
