@@ -152,8 +152,9 @@ void Attention::Associate(double time_s, const std::vector<Sighting>& sightings,
   }
 }
 
-void Attention::Follow(const Target& target, double time_s, const char* reason,
-                       Fixation* next) const {
+void Attention::Follow(const Target& target, double time_s, const char* reason, Fixation* next) {
+  visited_.clear();  // a target to follow ends any search
+  saccading_ = false;
   next->fovea_m = target.PredictedAt(time_s);
   next->velocity_mps = target.velocity_mps;
   next->growth_m = options_.growth_min_m;
@@ -173,8 +174,6 @@ Fixation Attention::Update(std::int64_t frame_seq, double time_s,
   Associate(time_s, sightings, &attended_seen);
 
   if (attended_seen) {
-    visited_.clear();
-    saccading_ = false;
     const auto it = std::find_if(targets_.begin(), targets_.end(),
                                  [&](const Target& t) { return t.id == current_.target; });
     if (targets_.size() > 1) {  // visit the next target in turn
@@ -189,8 +188,6 @@ Fixation Attention::Update(std::int64_t frame_seq, double time_s,
       return (a.position_m - current_.fovea_m).squaredNorm() <
              (b.position_m - current_.fovea_m).squaredNorm();
     });
-    visited_.clear();
-    saccading_ = false;
     Follow(*it, time_s, "detected", &next);
   } else {
     Lost(salient_regions, &next);

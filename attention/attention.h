@@ -100,7 +100,7 @@ class Attention {
   Target* Find(int id);
   void Associate(double time_s, const std::vector<Sighting>& sightings, bool* attended_seen);
   void See(Target* target, const Sighting& s, double time_s);
-  void Follow(const Target& target, double time_s, const char* reason, Fixation* next) const;
+  void Follow(const Target& target, double time_s, const char* reason, Fixation* next);
   void Lost(const std::vector<Eigen::Vector3f>& salient, Fixation* next);
 
   AttentionOptions options_;

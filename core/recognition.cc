@@ -84,6 +84,18 @@ std::pair<int, float> ModelDescription::Nearest(const float* shot) const {
   return {index, dist};
 }
 
+std::optional<Eigen::Vector3f> FiniteCentroid(const Cloud& cloud) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  std::size_t n = 0;
+  for (const auto& p : cloud.points) {
+    if (!FinitePoint(p)) continue;
+    sum += p.getVector3fMap().cast<double>();
+    ++n;
+  }
+  if (n == 0) return std::nullopt;
+  return Eigen::Vector3f((sum / static_cast<double>(n)).cast<float>());
+}
+
 std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& options,
                                               std::string* error) {
   ModelDescription out;
@@ -98,12 +110,8 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
   out.cloud_.height = 1;
   out.cloud_.sensor_origin_ = model.sensor_origin_;
   out.cloud_.sensor_orientation_ = model.sensor_orientation_;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const auto& p : out.cloud_.points) sum += p.getVector3fMap().cast<double>();
   out.centroid_ =
-      options.vote_for_model_origin
-          ? Eigen::Vector3f::Zero().eval()
-          : Eigen::Vector3f((sum / static_cast<double>(out.cloud_.size())).cast<float>());
+      options.vote_for_model_origin ? Eigen::Vector3f::Zero() : *FiniteCentroid(out.cloud_);
 
   const std::vector<std::uint8_t> mask(out.cloud_.size(), 1);
   const Normals normals = KnnNormals(out.cloud_, mask, options.model_normal_neighbors);

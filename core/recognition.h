@@ -85,6 +85,9 @@ class ModelDescription {
   int checks_ = 0;  // set from RecognitionOptions::match_checks by DescribeModel
 };
 
+/// The centroid of the finite points, in the cloud's frame; nullopt when none is finite.
+std::optional<Eigen::Vector3f> FiniteCentroid(const Cloud& cloud);
+
 /// Describes the model (normals k_nm, uniform-sampling keypoints r_km, SHOT r_sm, LRF r_lm).
 /// nullopt with `error` set when the cloud has no finite point or no describable keypoint.
 std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& options,

@@ -48,10 +48,17 @@ std::string DatasetSpec(const std::string& dataset) {
   return "depth:" + dataset;
 }
 
-double Mean(const std::vector<double>& v) {
+double MeanMs(const std::vector<Trial>& trials) {
   double sum = 0;
-  for (double x : v) sum += x;
-  return v.empty() ? 0 : sum / static_cast<double>(v.size());
+  for (const Trial& t : trials) sum += t.ms;
+  return trials.empty() ? 0 : sum / static_cast<double>(trials.size());
+}
+
+// The fovea offsets of the paper's Fig. 10: 0 to 35 cm along x, every 5 cm.
+std::vector<Eigen::Vector3f> SweepOffsets() {
+  std::vector<Eigen::Vector3f> out;
+  for (int cm = 0; cm <= 35; cm += 5) out.emplace_back(0.01f * cm, 0.0f, 0.0f);
+  return out;
 }
 
 class Runner {
@@ -59,11 +66,13 @@ class Runner {
   Runner(const Cloud& model, const Eigen::Vector3f& model_centre, ParallelFor parallel)
       : model_(model), model_centre_(model_centre), parallel_(std::move(parallel)) {}
 
-  // Runs `c` over every scene with the fovea at truth + offset; false with `error` when the
-  // model cannot be described.
+  // Runs `c` over every scene once per fovea offset from the truth (the model is described
+  // once); trials come back per offset, then per scene. False with `error` when the model
+  // cannot be described.
   bool Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
-           const Eigen::Vector3f& offset, std::vector<Trial>* trials, std::string* error) const {
-    trials->clear();
+           const std::vector<Eigen::Vector3f>& offsets, std::vector<std::vector<Trial>>* trials,
+           std::string* error) const {
+    trials->assign(offsets.size(), {});
     const RecognitionOptions& o = c.config.recognition;
     const bool is_stock = c.pipeline == "stock";
     const std::optional<ReferenceModel> stock =
@@ -71,21 +80,24 @@ class Runner {
     const std::optional<ModelDescription> described =
         is_stock ? std::nullopt : DescribeModel(model_, o, error);
     if (!stock && !described) return false;
-    for (const Scene& s : scenes) {
-      SceneQuery q;
-      q.foveated = c.pipeline == "foveated";
-      q.fovea_m = s.truth_m + offset;
-      q.fovea = c.config.fovea;
-      q.intrinsics = s.frame.intrinsics;
-      const auto t0 = std::chrono::steady_clock::now();
-      const RecognitionResult r = stock ? RecognizeReference(*stock, *s.frame.cloud, o)
-                                        : Recognize(*described, *s.frame.cloud, q, o, parallel_);
-      Trial t;
-      t.ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      for (const Detection& d : r.instances)
-        t.centres.push_back((d.model_to_scene * model_centre_.homogeneous()).head<3>());
-      trials->push_back(std::move(t));
+    for (std::size_t k = 0; k < offsets.size(); ++k) {
+      const Eigen::Vector3f& offset = offsets[k];
+      for (const Scene& s : scenes) {
+        SceneQuery q;
+        q.foveated = c.pipeline == "foveated";
+        q.fovea_m = s.truth_m + offset;
+        q.fovea = c.config.fovea;
+        q.intrinsics = s.frame.intrinsics;
+        const auto t0 = std::chrono::steady_clock::now();
+        const RecognitionResult r = stock ? RecognizeReference(*stock, *s.frame.cloud, o)
+                                          : Recognize(*described, *s.frame.cloud, q, o, parallel_);
+        Trial t;
+        t.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                   .count();
+        for (const Detection& d : r.instances)
+          t.centres.push_back((d.model_to_scene * model_centre_.homogeneous()).head<3>());
+        (*trials)[k].push_back(std::move(t));
+      }
     }
     return true;
   }
@@ -140,20 +152,12 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     return fail(error);
   std::optional<Cloud> model = LoadModelCloud(args.Get("model"), &error);
   if (!model) return fail(error);
-  Eigen::Vector3f model_centre = Eigen::Vector3f::Zero();
-  bool centre_given = false;
+  std::optional<Eigen::Vector3f> model_centre = FiniteCentroid(*model);
+  if (!model_centre) return fail(args.Get("model") + ": the model has no valid point");
   if (args.Has("model-centre")) {
-    const auto c = Args::ParseVector3(args.Get("model-centre"));
-    if (!c) return Usage(err, "eval", "--model-centre expects x,y,z in the model's frame");
-    model_centre = *c;
-    centre_given = true;
-  }
-  if (!centre_given) {
-    int n = 0;
-    for (const PointT& p : *model)
-      if (std::isfinite(p.z)) model_centre += p.getVector3fMap(), ++n;
-    if (n == 0) return fail(args.Get("model") + ": the model has no valid point");
-    model_centre /= static_cast<float>(n);
+    model_centre = Args::ParseVector3(args.Get("model-centre"));
+    if (!model_centre)
+      return Usage(err, "eval", "--model-centre expects x,y,z in the model's frame");
   }
   std::optional<float> sphere_radius;
   if (args.Has("sphere-radius")) {
@@ -172,6 +176,10 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     std::stringstream names(args.Get("sweep"));
     for (std::string name; std::getline(names, name, ',');) sweep_names.push_back(name);
   }
+  for (const std::string& name : sweep_names)
+    if (std::none_of(configs.begin(), configs.end(),
+                     [&](const EvalConfiguration& c) { return c.name == name; }))
+      return fail("--sweep: no configuration named '" + name + "'");
 
   // With --truth-pose, one pose (model to scene) is the truth of every frame: a single
   // capture such as PCL's milk scene, whose pose file comes with it.
@@ -179,7 +187,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   if (args.Has("truth-pose")) {
     const auto pose = LoadPose(args.Get("truth-pose"), &error);
     if (!pose) return fail(error);
-    posed_truth = (*pose * model_centre.homogeneous()).head<3>();
+    posed_truth = (*pose * model_centre->homogeneous()).head<3>();
   }
 
   // The dataset, every frame with its truth: a folder, a source spec, or one PCD file.
@@ -232,15 +240,24 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   const fs::path dir = args.Get("out", "eval-out");
   fs::create_directories(dir, ec);
   if (ec) return fail(dir.string() + ": cannot create it (" + ec.message() + ")");
-  Runner runner(*model, model_centre, MakeTbbParallelFor());
+  Runner runner(*model, *model_centre, MakeTbbParallelFor());
+  // Per configuration: the trials with the fovea on the truth, and for swept ones the Fig. 10
+  // offsets too (the first of which is the truth itself).
+  const std::vector<Eigen::Vector3f> sweep_offsets = SweepOffsets();
   std::vector<std::vector<Trial>> trials(configs.size());
+  std::vector<std::vector<std::vector<Trial>>> swept(configs.size());
   std::vector<double> mean_ms(configs.size());
   for (std::size_t c = 0; c < configs.size(); ++c) {
-    if (!runner.Run(configs[c], scenes, Eigen::Vector3f::Zero(), &trials[c], &error))
+    const bool sweep =
+        std::find(sweep_names.begin(), sweep_names.end(), configs[c].name) != sweep_names.end();
+    std::vector<std::vector<Trial>> per_offset;
+    if (!runner.Run(configs[c], scenes,
+                    sweep ? sweep_offsets : std::vector<Eigen::Vector3f>{Eigen::Vector3f::Zero()},
+                    &per_offset, &error))
       return fail("configuration " + configs[c].name + ": " + error);
-    std::vector<double> ms;
-    for (const Trial& t : trials[c]) ms.push_back(t.ms);
-    mean_ms[c] = Mean(ms);
+    trials[c] = per_offset.front();
+    mean_ms[c] = MeanMs(trials[c]);
+    if (sweep) swept[c] = std::move(per_offset);
     err << "saccade eval: configuration " << configs[c].name << " done\n";
   }
   const std::string reference = args.Get("reference", "10");
@@ -286,17 +303,14 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   std::ofstream sw(dir / "sweep.csv");
   sw << "name,offset_m,tp,fp,mean_ms\n";
   for (const std::string& name : sweep_names) {
-    const auto it = std::find_if(configs.begin(), configs.end(),
-                                 [&](const EvalConfiguration& c) { return c.name == name; });
-    if (it == configs.end()) return fail("--sweep: no configuration named '" + name + "'");
-    for (int cm = 0; cm <= 35; cm += 5) {
-      std::vector<Trial> moved;
-      if (!runner.Run(*it, scenes, Eigen::Vector3f(0.01f * cm, 0, 0), &moved, &error))
-        return fail(error);
-      const Totals t = Score(moved, scenes, 0.08f);
-      std::vector<double> ms;
-      for (const Trial& m : moved) ms.push_back(m.ms);
-      sw << name << ',' << 0.01 * cm << ',' << t.tp << ',' << t.fp << ',' << Mean(ms) << "\n";
+    const auto c = static_cast<std::size_t>(
+        std::find_if(configs.begin(), configs.end(),
+                     [&](const EvalConfiguration& e) { return e.name == name; }) -
+        configs.begin());
+    for (std::size_t k = 0; k < sweep_offsets.size(); ++k) {
+      const Totals t = Score(swept[c][k], scenes, 0.08f);
+      sw << name << ',' << sweep_offsets[k].x() << ',' << t.tp << ',' << t.fp << ','
+         << MeanMs(swept[c][k]) << "\n";
     }
   }
   csv.close(), md.close(), th.close(), sw.close();

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <fstream>
+#include <memory>
 #include <ostream>
 
 namespace saccade {
@@ -15,21 +16,27 @@ namespace {
 
 const std::string kDefaultUrl = BusOptions{}.url;
 
-// Opens --out (or stdout for "-") with the format its name asks for.
-bool OpenOutput(const Args& args, std::ostream& out, std::ofstream* file, std::ostream** stream,
-                FixationWriter::Format* format, std::string* error) {
+constexpr const char* kOutRequired = "--out FILE.csv|FILE.jsonl is required";
+
+// Where a fixation log goes: --out (or stdout for "-"), in the format its name asks for.
+struct Output {
+  std::ofstream file;
+  std::unique_ptr<FixationWriter> writer;
+};
+
+// Opens --out; false with `error` when its format is unknown or it cannot be written.
+bool OpenOutput(const Args& args, std::ostream& out, Output* output, std::string* error) {
   const std::string path = args.Get("out");
-  if (!FixationWriter::FormatOf(path == "-" ? "-.csv" : path, format, error)) return false;
-  if (path == "-") {
-    *stream = &out;
-    return true;
+  FixationWriter::Format format;
+  if (!FixationWriter::FormatOf(path == "-" ? "-.csv" : path, &format, error)) return false;
+  if (path != "-") {
+    output->file.open(path);
+    if (!output->file) {
+      *error = "'" + path + "': cannot write it";
+      return false;
+    }
   }
-  file->open(path);
-  if (!*file) {
-    *error = "'" + path + "': cannot write it";
-    return false;
-  }
-  *stream = file;
+  output->writer = std::make_unique<FixationWriter>(path == "-" ? out : output->file, format);
   return true;
 }
 
@@ -40,27 +47,24 @@ int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std
   std::string error;
   if (!args.Parse(argv, {"channel", "out", "lcm-url", "count"}, {}, &error))
     return Usage(err, "log-fixations", error);
-  if (!args.Has("out")) return Usage(err, "log-fixations", "--out FILE.csv|FILE.jsonl is required");
+  if (!args.Has("out")) return Usage(err, "log-fixations", kOutRequired);
   std::int64_t count = 0;
   if (args.Has("count")) {
     const auto n = Args::ParsePositiveInt(args.Get("count"));
     if (!n) return Usage(err, "log-fixations", "--count must be a positive integer");
     count = *n;
   }
-  std::ofstream file;
-  std::ostream* stream = nullptr;
-  FixationWriter::Format format;
-  if (!OpenOutput(args, out, &file, &stream, &format, &error)) {
+  Output output;
+  if (!OpenOutput(args, out, &output, &error)) {
     err << "saccade log-fixations: " << error << "\n";
     return kExitFailure;
   }
   std::atomic<bool> stop{false};
   SignalWaiter signals([&](int) { stop = true; });  // SIGINT/SIGTERM end the log cleanly
-  FixationWriter writer(*stream, format);
   FixationLogStats stats;
-  if (!ListenFixations(args.Get("lcm-url", kDefaultUrl),
-                       args.Get("channel", FixationChannel("SACCADE")), &writer, count, stop,
-                       &stats, &error)) {
+  if (!ListenFixations(args.Get("lcm-url", BusOptions{}.url),
+                       args.Get("channel", FixationChannel("SACCADE")), output.writer.get(), count,
+                       stop, &stats, &error)) {
     err << "saccade log-fixations: " << error << "\n";
     return kExitFailure;
   }
@@ -73,23 +77,16 @@ int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std
 int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   if (argv.empty() || argv[0].rfind("--", 0) == 0)
     return Usage(err, "fixations", "the first argument must be an lcm-logger log file");
-  const std::string log = argv[0];
   Args args;
   std::string error;
   if (!args.Parse({argv.begin() + 1, argv.end()}, {"channel", "out"}, {}, &error))
     return Usage(err, "fixations", error);
-  if (!args.Has("out")) return Usage(err, "fixations", "--out FILE.csv|FILE.jsonl is required");
-  std::ofstream file;
-  std::ostream* stream = nullptr;
-  FixationWriter::Format format;
-  if (!OpenOutput(args, out, &file, &stream, &format, &error)) {
-    err << "saccade fixations: " << error << "\n";
-    return kExitFailure;
-  }
-  FixationWriter writer(*stream, format);
+  if (!args.Has("out")) return Usage(err, "fixations", kOutRequired);
+  Output output;
   FixationLogStats stats;
-  if (!ConvertFixationLog(log, args.Get("channel", FixationChannel("SACCADE")), &writer, &stats,
-                          &error)) {
+  if (!OpenOutput(args, out, &output, &error) ||
+      !ConvertFixationLog(argv[0], args.Get("channel", FixationChannel("SACCADE")),
+                          output.writer.get(), &stats, &error)) {
     err << "saccade fixations: " << error << "\n";
     return kExitFailure;
   }

@@ -1,5 +1,6 @@
 // saccaded: the tracking service. Frames in, detections and fixations out over LCM.
 #include "daemon/args.h"
+#include "daemon/commands.h"
 #include "daemon/notify.h"
 #include "daemon/settings.h"
 #include "daemon/signals.h"
@@ -25,8 +26,6 @@ reload the config file (a bad one is reported and the running one kept).
 exit codes: 0 stopped cleanly or the source ended, 1 the source, a model or LCM failed,
             2 bad usage or configuration
 )";
-
-constexpr int kExitOk = 0, kExitFailure = 1, kExitUsage = 2;
 
 // The file, then the flags over it.
 bool LoadSettings(const saccade::Args& args, saccade::DaemonSettings* settings,

@@ -2,14 +2,13 @@
 
 #include "core/recognition.h"
 #include "core/saliency.h"
+#include "daemon/tbb_parallel.h"
 #include "io/bus.h"
 #include "io/cloud_io.h"
 #include "io/frame_source.h"
 #include "io/log.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/info.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
@@ -77,46 +76,15 @@ std::shared_ptr<const Engine> MakeEngine(const DaemonSettings& s, Models models)
   return e;
 }
 
-// Latencies of one stage over one status period; bounded (the newest samples are kept).
-class LatencyWindow {
- public:
-  void Add(double ms) {
-    if (samples_.size() < kMax)
-      samples_.push_back(static_cast<float>(ms));
-    else
-      samples_[next_++ % kMax] = static_cast<float>(ms);
-  }
-  LatencyReport TakeReport(const std::string& name) {
-    LatencyReport r;
-    r.name = name;
-    r.samples = static_cast<int>(samples_.size());
-    if (!samples_.empty()) {
-      std::sort(samples_.begin(), samples_.end());
-      const auto at = [&](double q) {
-        return samples_[std::min(samples_.size() - 1,
-                                 static_cast<std::size_t>(q * (samples_.size() - 1) + 0.5))];
-      };
-      r.p50_ms = at(0.5), r.p90_ms = at(0.9), r.p99_ms = at(0.99), r.max_ms = samples_.back();
-    }
-    samples_.clear();
-    next_ = 0;
-    return r;
-  }
-
- private:
-  static constexpr std::size_t kMax = 4096;
-  std::vector<float> samples_;
-  std::size_t next_ = 0;
-};
-
-// Latencies over a whole run, in 0.1 ms bins up to 2 s (beyond: the last bin), so the run's
-// percentiles cost constant memory however long it runs.
-class RunHistogram {
+// Latencies in 0.1 ms bins up to 2 s (beyond: the last bin): percentiles in constant memory
+// over a status period or a whole run.
+class LatencyHistogram {
  public:
   void Add(double ms) {
     const auto bin = static_cast<std::size_t>(std::max(0.0, ms) * 10);
     ++bins_[std::min(bin, bins_.size() - 1)];
     ++count_;
+    max_ms_ = std::max(max_ms_, ms);
   }
   double Percentile(double q) const {
     if (count_ == 0) return 0;
@@ -128,10 +96,23 @@ class RunHistogram {
     }
     return bins_.size() / 10.0;
   }
+  /// The period's report, then empty for the next period.
+  LatencyReport TakeReport(const std::string& name) {
+    LatencyReport r;
+    r.name = name;
+    r.samples = static_cast<int>(count_);
+    r.p50_ms = static_cast<float>(Percentile(0.5));
+    r.p90_ms = static_cast<float>(Percentile(0.9));
+    r.p99_ms = static_cast<float>(Percentile(0.99));
+    r.max_ms = static_cast<float>(max_ms_);
+    *this = LatencyHistogram();
+    return r;
+  }
 
  private:
   std::vector<std::int64_t> bins_ = std::vector<std::int64_t>(20000, 0);
   std::int64_t count_ = 0;
+  double max_ms_ = 0;
 };
 
 double Ms(std::int64_t from_ns, std::int64_t to_ns) { return (to_ns - from_ns) * 1e-6; }
@@ -139,11 +120,9 @@ double Ms(std::int64_t from_ns, std::int64_t to_ns) { return (to_ns - from_ns) *
 // One frame's trip through the pipeline.
 struct Job {
   Frame frame;
-  std::int64_t taken_ns = 0;
   Fixation used;  // the fixation the frame was foveated with
   Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();
   bool foveated = true;
-  std::shared_ptr<const Engine> engine;
   std::vector<InstanceReport> instances;
   std::vector<Eigen::Vector3f> salient;
   double recognize_ms = 0, attention_ms = 0;
@@ -157,6 +136,29 @@ float TruthError(const InstanceReport& i, const GroundTruth& truth) {
   return (i.centroid_m - truth.target_pose * in_model).norm();
 }
 
+// The human line of `service.summary: line`: mode, fovea, and the error to the truth when the
+// frame has one.
+std::string SummaryLine(const Fixation& next, const std::vector<InstanceReport>& instances,
+                        const std::optional<GroundTruth>& truth) {
+  char line[160];
+  const Eigen::Vector3f& p = next.fovea_m;
+  const int n = std::snprintf(line, sizeof line, "%-9s fovea (%+.2f, %+.2f, %+.2f) m  G %.2f m",
+                              ModeName(next.mode), p.x(), p.y(), p.z(), next.growth_m);
+  if (!truth || n <= 0 || n >= static_cast<int>(sizeof line)) return line;
+  float best = -1;
+  for (const InstanceReport& i : instances) {
+    const float d = TruthError(i, *truth);
+    if (best < 0 || d < best) best = d;
+  }
+  if (truth->visible_fraction < 0.2f)
+    std::snprintf(line + n, sizeof line - n, "  target hidden");
+  else if (best < 0)
+    std::snprintf(line + n, sizeof line - n, "  target not found");
+  else
+    std::snprintf(line + n, sizeof line - n, "  error %.1f cm", best * 100);
+  return line;
+}
+
 FixationReport ToReport(const Fixation& f, std::int64_t capture_utime) {
   FixationReport r;
   r.capture_utime = capture_utime;
@@ -165,7 +167,6 @@ FixationReport ToReport(const Fixation& f, std::int64_t capture_utime) {
   r.velocity_mps = f.velocity_mps;
   r.growth_m = f.growth_m;
   r.mode = static_cast<int>(f.mode);
-  r.mode_name = ModeName(f.mode);
   r.target = f.target;
   r.model = f.model;
   r.num_targets = f.num_targets;
@@ -197,8 +198,8 @@ struct Tracker::State {
 
   // Written by the serial stages, read by the status thread.
   std::mutex stats_mutex;
-  LatencyWindow recognize, attend, publish, capture_to_publish;
-  RunHistogram run_recognize, run_capture_to_publish;
+  LatencyHistogram recognize, attend, publish, capture_to_publish;  // this status period
+  LatencyHistogram run_recognize, run_capture_to_publish;           // the whole run
   std::int64_t processed = 0;
   int lag_max = 0;
   AttentionMode mode = AttentionMode::kSearching;
@@ -213,7 +214,8 @@ struct Tracker::State {
   void Recognize(Job* job);
   void Attend(Job* job);
   void Publish(Job* job);
-  void PublishStatus(double period_s, std::int64_t* last_processed, bool final);
+  /// Publishes (and, with `service.summary: line` and not `final`, prints) the status; returns it.
+  StatusReport PublishStatus(double period_s, std::int64_t* last_processed, bool final);
 };
 
 bool Tracker::State::OnCommand(const Command& c, std::string* why) {
@@ -259,8 +261,8 @@ void Tracker::State::Recognize(Job* job) {
     std::lock_guard<std::mutex> lock(attention_mutex);
     job->used = current;
   }
-  job->engine = CurrentEngine();
-  const Engine& e = *job->engine;
+  const std::shared_ptr<const Engine> engine = CurrentEngine();
+  const Engine& e = *engine;
   const double t = job->frame.capture_utime * 1e-6;
   SceneQuery q;
   q.foveated = job->used.mode != AttentionMode::kFullScan;
@@ -271,12 +273,7 @@ void Tracker::State::Recognize(Job* job) {
   job->foveated = q.foveated;
   job->fovea_m = q.fovea_m;
   // Nested parallelism runs in the pipeline's own arena.
-  const ParallelFor parallel = [](std::size_t n,
-                                  const std::function<void(std::size_t, std::size_t)>& body) {
-    if (n == 0) return;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n),
-                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
-  };
+  const ParallelFor parallel = TbbParallelFor();
   for (std::size_t m = 0; m < e.models.size(); ++m) {
     std::string error;
     const RecognitionResult r = saccade::Recognize(e.models[m]->description, *job->frame.cloud, q,
@@ -293,7 +290,9 @@ void Tracker::State::Recognize(Job* job) {
       job->instances.push_back(std::move(i));
     }
   }
-  if (e.saccade_fallback) job->salient = SalientRegions(*job->frame.cloud, e.saliency);
+  // Only a search can end in a saccade; a tracking frame need not look for salient regions.
+  if (e.saccade_fallback && job->used.mode == AttentionMode::kSearching)
+    job->salient = SalientRegions(*job->frame.cloud, e.saliency);
   job->recognize_ms = Ms(t0, SteadyNowNs());
 }
 
@@ -327,7 +326,7 @@ void Tracker::State::Publish(Job* job) {
   frame.growth_m = job->used.growth_m;
   frame.fixation_seq = job->used.frame_seq;
   frame.recognize_ms = static_cast<float>(job->recognize_ms);
-  frame.instances = job->instances;
+  frame.instances = std::move(job->instances);  // the last stage: nothing reads them after
   if (LogEnabled(LogLevel::kDebug)) {
     std::string votes;
     for (const InstanceReport& i : frame.instances) votes += " " + std::to_string(i.votes);
@@ -338,25 +337,9 @@ void Tracker::State::Publish(Job* job) {
   if (!bus->Publish(frame, ToReport(job->next, job->frame.capture_utime)))
     Log(LogLevel::kWarning, "frame " + std::to_string(frame.seq) + ": LCM did not send it");
   const std::int64_t t1 = SteadyNowNs();
+  const std::string summary =
+      settings.summary == "line" ? SummaryLine(job->next, frame.instances, job->frame.truth) : "";
 
-  char line[160];
-  const Eigen::Vector3f& p = job->next.fovea_m;
-  int n = std::snprintf(line, sizeof line, "%-9s fovea (%+.2f, %+.2f, %+.2f) m  G %.2f m",
-                        ModeName(job->next.mode), p.x(), p.y(), p.z(), job->next.growth_m);
-  if (job->frame.truth && n > 0 && n < static_cast<int>(sizeof line)) {
-    const GroundTruth& truth = *job->frame.truth;
-    float best = -1;
-    for (const InstanceReport& i : job->instances) {
-      const float d = TruthError(i, truth);
-      if (best < 0 || d < best) best = d;
-    }
-    if (truth.visible_fraction < 0.2f)
-      std::snprintf(line + n, sizeof line - n, "  target hidden");
-    else if (best < 0)
-      std::snprintf(line + n, sizeof line - n, "  target not found");
-    else
-      std::snprintf(line + n, sizeof line - n, "  error %.1f cm", best * 100);
-  }
   std::lock_guard<std::mutex> lock(stats_mutex);
   recognize.Add(job->recognize_ms);
   attend.Add(job->attention_ms);
@@ -368,11 +351,12 @@ void Tracker::State::Publish(Job* job) {
   if (job->used.frame_seq >= 0)
     lag_max = std::max<int>(lag_max, static_cast<int>(frame.seq - job->used.frame_seq));
   mode = job->next.mode;
-  last_summary = line;
+  if (!summary.empty()) last_summary = summary;
   ++progress;
 }
 
-void Tracker::State::PublishStatus(double period_s, std::int64_t* last_processed, bool final) {
+StatusReport Tracker::State::PublishStatus(double period_s, std::int64_t* last_processed,
+                                           bool final) {
   const SourceStats source_stats = source->Stats();
   StatusReport s;
   s.uptime_s = Ms(started_ns, SteadyNowNs()) / 1000;
@@ -406,6 +390,7 @@ void Tracker::State::PublishStatus(double period_s, std::int64_t* last_processed
                 static_cast<long long>(s.frames_dropped), summary.c_str());
     std::fflush(stdout);
   }
+  return s;
 }
 
 Tracker::Tracker(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -492,15 +477,10 @@ bool Tracker::Run(std::string* error) {
     std::unique_lock<std::mutex> lock(status_mutex);
     const auto period = std::chrono::duration<double>(s.settings.status_period_s);
     while (!status_cv.wait_for(lock, period, [&] { return status_done; })) {
-      s.PublishStatus(s.settings.status_period_s, &last_processed, false);
+      const StatusReport status =
+          s.PublishStatus(s.settings.status_period_s, &last_processed, false);
       const std::int64_t now = s.progress;
-      bool waiting;
-      {
-        std::lock_guard<std::mutex> run_lock(s.run_mutex);
-        waiting = s.paused;
-      }
-      const std::string state = s.source->Stats().state;
-      waiting = waiting || state.rfind("reconnecting", 0) == 0;
+      const bool waiting = status.paused || status.source_state.rfind("reconnecting", 0) == 0;
       if (s.heartbeat) s.heartbeat(now != seen || waiting);
       seen = now;
     }
@@ -531,9 +511,8 @@ bool Tracker::Run(std::string* error) {
                                    fc.stop();
                                    return nullptr;
                                  }
-                                 job->taken_ns = SteadyNowNs();
                                  if (job->frame.arrival_steady_ns == 0)
-                                   job->frame.arrival_steady_ns = job->taken_ns;
+                                   job->frame.arrival_steady_ns = SteadyNowNs();
                                  return job;
                                }) &
                                tbb::make_filter<std::shared_ptr<Job>, std::shared_ptr<Job>>(

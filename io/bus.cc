@@ -41,6 +41,9 @@ class LcmBus : public Bus {
   LcmBus(const BusOptions& options, std::unique_ptr<lcm::LCM> lcm, CommandHandler on_command)
       : options_(options), lcm_(std::move(lcm)), on_command_(std::move(on_command)) {
     frame_name_ = options_.to_robot_frame ? options_.robot_frame : "camera";
+    detections_channel_ = DetectionsChannel(options_.channel_prefix);
+    fixation_channel_ = FixationChannel(options_.channel_prefix);
+    status_channel_ = StatusChannel(options_.channel_prefix);
     X_RC_ = options_.to_robot_frame ? options_.robot_from_camera : Eigen::Isometry3f::Identity();
   }
 
@@ -99,15 +102,16 @@ class LcmBus : public Bus {
     Copy3(X_RC_.linear() * fixation.velocity_mps, f.velocity);
     f.growth = fixation.growth_m;
     f.mode = static_cast<std::int8_t>(fixation.mode);
-    f.mode_name = fixation.mode_name;
+    static const char* const kModeNames[] = {"TRACKING", "SEARCHING", "FULL_SCAN"};
+    f.mode_name = fixation.mode >= 0 && fixation.mode < 3 ? kModeNames[fixation.mode] : "?";
     f.target = fixation.target;
     f.model = fixation.model;
     f.num_targets = fixation.num_targets;
     f.reason = fixation.reason;
 
     std::lock_guard<std::mutex> lock(publish_mutex_);
-    const bool ok = lcm_->publish(DetectionsChannel(options_.channel_prefix), &d) == 0;
-    return lcm_->publish(FixationChannel(options_.channel_prefix), &f) == 0 && ok;
+    const bool ok = lcm_->publish(detections_channel_, &d) == 0;
+    return lcm_->publish(fixation_channel_, &f) == 0 && ok;
   }
 
   bool PublishStatus(const StatusReport& s) override {
@@ -136,7 +140,7 @@ class LcmBus : public Bus {
     }
     m.num_stages = static_cast<std::int32_t>(m.stages.size());
     std::lock_guard<std::mutex> lock(publish_mutex_);
-    return lcm_->publish(StatusChannel(options_.channel_prefix), &m) == 0;
+    return lcm_->publish(status_channel_, &m) == 0;
   }
 
   std::int64_t AcceptedCommands() const override { return accepted_; }
@@ -215,6 +219,7 @@ class LcmBus : public Bus {
   const BusOptions options_;
   std::unique_ptr<lcm::LCM> lcm_;
   std::string frame_name_;
+  std::string detections_channel_, fixation_channel_, status_channel_;
   Eigen::Isometry3f X_RC_;
   std::mutex publish_mutex_;
   CommandHandler on_command_;

@@ -43,8 +43,7 @@ struct FixationReport {
   Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();
   Eigen::Vector3f velocity_mps = Eigen::Vector3f::Zero();
   float growth_m = 0;
-  int mode = 1;  // 0 TRACKING, 1 SEARCHING, 2 FULL_SCAN (fixation_t's constants)
-  std::string mode_name;
+  int mode = 1;  // 0 TRACKING, 1 SEARCHING, 2 FULL_SCAN (fixation_t's constants and names)
   int target = -1;
   int model = -1;
   int num_targets = 0;

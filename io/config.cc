@@ -356,6 +356,8 @@ bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& ba
     c.name = std::to_string(i);
     const ConfigKeys recognition = RecognitionKeys(&c.config.recognition);
     const ConfigKeys fovea = FoveaKeys(&c.config.fovea);
+    const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)},
+                                               {"pipeline", Scalar(&c.pipeline)}};
     for (const auto& kv : list[i]) {
       const std::string key = kv.first.as<std::string>();
       const std::string qualified = entry + "." + key;
@@ -365,8 +367,6 @@ bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& ba
       } else if (key == "fovea") {
         ok = ApplySection(kv.second, qualified, fovea.setters, path, error);
       } else {
-        const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)},
-                                                   {"pipeline", Scalar(&c.pipeline)}};
         ok = ApplyKey(top, key, qualified, kv.second, path, error);
       }
       if (!ok) return false;

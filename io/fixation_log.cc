@@ -1,6 +1,7 @@
 #include "io/fixation_log.h"
 
 #include "io/json.h"
+#include "io/text.h"
 
 #include <lcm/lcm-cpp.hpp>
 #include <saccade/fixation_t.hpp>
@@ -28,13 +29,9 @@ bool DecodeFixation(const void* data, std::size_t size, FixationRecord* r) {
 }
 
 bool FixationWriter::FormatOf(const std::string& path, Format* format, std::string* error) {
-  const auto ends_with = [&](const std::string& suffix) {
-    return path.size() >= suffix.size() &&
-           path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
-  };
-  if (ends_with(".csv")) {
+  if (EndsWith(path, ".csv")) {
     *format = Format::kCsv;
-  } else if (ends_with(".jsonl")) {
+  } else if (EndsWith(path, ".jsonl")) {
     *format = Format::kJsonl;
   } else {
     *error = "'" + path + "': the output must end in .csv or .jsonl";

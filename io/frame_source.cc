@@ -8,6 +8,7 @@
 #include "io/images.h"
 #include "io/mailbox.h"
 #include "io/openni2_source.h"
+#include "io/text.h"
 #include "io/truth_file.h"
 
 #include <algorithm>
@@ -23,11 +24,6 @@ namespace saccade {
 namespace fs = std::filesystem;
 
 namespace {
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 // A finite, indexable sequence of frames (files or a scenario), read on demand.
 class Sequence {

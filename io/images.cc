@@ -1,5 +1,7 @@
 #include "io/images.h"
 
+#include "io/text.h"
+
 #include <png.h>
 #include <tiffio.h>
 
@@ -20,11 +22,6 @@ namespace {
 bool Fail(std::string* error, const std::string& path, const std::string& why) {
   if (error) *error = path + ": " + why;
   return false;
-}
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 bool IsTiff(const std::string& path) { return EndsWith(path, ".tif") || EndsWith(path, ".tiff"); }

@@ -80,7 +80,6 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   f.fovea_m = Eigen::Vector3f(1, 0, 2);
   f.velocity_mps = Eigen::Vector3f(1, 0, 0);
   f.mode = 0;
-  f.mode_name = "TRACKING";
   ASSERT_TRUE(Until([&] { return got && fixation; },
                     [&] {
                       bus->Publish(frame, f);
@@ -102,6 +101,7 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   EXPECT_EQ(i.votes, 9);
   EXPECT_NEAR(got->fovea[2], 1.5, 1e-5);
   EXPECT_EQ(fixation->frame, "base_link");
+  EXPECT_EQ(fixation->mode_name, "TRACKING");
   EXPECT_NEAR(fixation->velocity[1], 1.0, 1e-5);  // velocities turn but do not move
   EXPECT_NEAR(fixation->velocity[0], 0.0, 1e-5);
 }
