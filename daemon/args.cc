@@ -52,12 +52,18 @@ std::optional<Eigen::Vector3f> Args::ParseVector3(const std::string& text) {
   int n = 0;
   while (std::getline(s, part, ',')) {
     if (n == 3) return std::nullopt;
-    char* end = nullptr;
-    const double d = std::strtod(part.c_str(), &end);
-    if (part.empty() || *end != '\0' || !std::isfinite(d)) return std::nullopt;
-    v[n++] = static_cast<float>(d);
+    const auto d = ParseNumber(part);
+    if (!d) return std::nullopt;
+    v[n++] = static_cast<float>(*d);
   }
   if (n != 3) return std::nullopt;
+  return v;
+}
+
+std::optional<double> Args::ParseNumber(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
   return v;
 }
 

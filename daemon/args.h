@@ -21,6 +21,8 @@ class Args {
   std::string Get(const std::string& name, const std::string& fallback = "") const;
   /// "x,y,z" as three finite numbers.
   static std::optional<Eigen::Vector3f> ParseVector3(const std::string& text);
+  /// One finite number, nothing else.
+  static std::optional<double> ParseNumber(const std::string& text);
   /// A whole positive integer.
   static std::optional<int> ParsePositiveInt(const std::string& text);
 

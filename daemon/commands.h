@@ -20,6 +20,7 @@ int RunBench(const std::vector<std::string>& args, std::ostream& out, std::ostre
 int RunRecord(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunLogFixations(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunFixations(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int RunSegment(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunEval(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunDemo(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 

@@ -161,9 +161,9 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   }
   std::optional<float> sphere_radius;
   if (args.Has("sphere-radius")) {
-    const float r = std::strtof(args.Get("sphere-radius").c_str(), nullptr);
-    if (!(r > 0)) return Usage(err, "eval", "--sphere-radius expects metres > 0");
-    sphere_radius = r;
+    const auto r = Args::ParseNumber(args.Get("sphere-radius"));
+    if (!r || !(*r > 0)) return Usage(err, "eval", "--sphere-radius expects metres > 0");
+    sphere_radius = static_cast<float>(*r);
   }
   int max_frames = 1 << 30;
   if (args.Has("frames")) {

@@ -24,6 +24,10 @@ commands:
             subscribe to saccaded's fixations and log them until SIGINT (or N of them)
   fixations LOG.lcmlog --out FILE.csv|FILE.jsonl [--channel SACCADE_FIXATION]
             convert the fixations in an lcm-logger log to the same format
+  segment   --scene S.pcd --out MODEL.pcd [--z-max M] [--plane-fraction F] [--plane-distance D]
+            [--cluster-distance D] [--min-points N] [--pick largest|nearest|N] [--seed S] [--json]
+            cut an object out of a capture: drop points beyond z_max, remove planes until F of
+            the points is gone, cluster the rest; write the picked cluster as a model
   eval      --dataset DIR|SPEC|FILE.pcd --model M --configs FILE.yaml [--out DIR]
             [--model-centre x,y,z] [--truth-pose POSE.txt] [--sphere-radius R]
             [--sweep NAME,...] [--reference NAME] [--frames N] [--no-plots]
@@ -52,6 +56,7 @@ int main(int argc, char** argv) {
   if (command == "record") return saccade::RunRecord(args, std::cout, std::cerr);
   if (command == "log-fixations") return saccade::RunLogFixations(args, std::cout, std::cerr);
   if (command == "fixations") return saccade::RunFixations(args, std::cout, std::cerr);
+  if (command == "segment") return saccade::RunSegment(args, std::cout, std::cerr);
   if (command == "eval") return saccade::RunEval(args, std::cout, std::cerr);
   if (command == "demo") return saccade::RunDemo(args, std::cout, std::cerr);
   std::cerr << "saccade: unknown command '" << command << "' (see saccade --help)\n";

@@ -1,5 +1,6 @@
 #include "io/cloud_io.h"
 
+#include "core/fail.h"
 #include "core/scenario.h"
 
 #include <cstdio>
@@ -19,43 +20,53 @@ namespace saccade {
 
 void QuietPcl() { pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS); }
 
-std::optional<Cloud> LoadCloud(const std::string& path, std::string* error) {
+namespace {
+
+// Reads any PCD encoding into a blob; false with "PATH: reason" when missing, unreadable,
+// corrupt or without x/y/z.
+bool ReadBlob(const std::string& path, pcl::PCLPointCloud2* blob, std::string* error) {
   QuietPcl();
   struct stat st {};
-  if (stat(path.c_str(), &st) != 0) {
-    *error = path + ": no such file";
-    return std::nullopt;
-  }
-  if (S_ISDIR(st.st_mode)) {
-    *error = path + ": is a directory, not a PCD file";
-    return std::nullopt;
-  }
-  pcl::PCLPointCloud2 blob;
+  if (stat(path.c_str(), &st) != 0) return Fail(error, path + ": no such file");
+  if (S_ISDIR(st.st_mode)) return Fail(error, path + ": is a directory, not a PCD file");
   pcl::PCDReader reader;
   int result = -1;
   try {
-    result = reader.read(path, blob);
+    result = reader.read(path, *blob);
   } catch (const std::exception& e) {
-    *error = path + ": not a readable PCD file (" + e.what() + ")";
-    return std::nullopt;
+    return Fail(error, path + ": not a readable PCD file (" + e.what() + ")");
   }
-  if (result < 0) {
-    *error = path + ": not a readable PCD file (corrupt or truncated)";
-    return std::nullopt;
-  }
-  bool has_x = false, has_y = false, has_z = false;
-  for (const auto& f : blob.fields) {
-    has_x |= f.name == "x";
-    has_y |= f.name == "y";
-    has_z |= f.name == "z";
-  }
-  if (!has_x || !has_y || !has_z) {
-    *error = path + ": PCD has no x, y and z fields";
-    return std::nullopt;
-  }
+  if (result < 0) return Fail(error, path + ": not a readable PCD file (corrupt or truncated)");
+  for (const char* axis : {"x", "y", "z"})
+    if (pcl::getFieldIndex(*blob, axis) < 0)
+      return Fail(error, path + ": PCD has no x, y and z fields");
+  return true;
+}
+
+}  // namespace
+
+std::optional<Cloud> LoadCloud(const std::string& path, std::string* error) {
+  pcl::PCLPointCloud2 blob;
+  if (!ReadBlob(path, &blob, error)) return std::nullopt;
   Cloud cloud;
   pcl::fromPCLPointCloud2(blob, cloud);
   return cloud;
+}
+
+std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::string* error) {
+  pcl::PCLPointCloud2 blob;
+  if (!ReadBlob(path, &blob, error)) return std::nullopt;
+  if (pcl::getFieldIndex(blob, "label") < 0) {
+    Fail(error, path + ": PCD has no label field");
+    return std::nullopt;
+  }
+  LabelledCloud out;
+  pcl::fromPCLPointCloud2(blob, out.cloud);
+  pcl::PointCloud<pcl::Label> labels;
+  pcl::fromPCLPointCloud2(blob, labels);
+  out.labels.reserve(labels.size());
+  for (const pcl::Label& l : labels) out.labels.push_back(l.label);
+  return out;
 }
 
 bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error) {

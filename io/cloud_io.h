@@ -3,14 +3,26 @@
 
 #include "core/types.h"
 
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace saccade {
 
 /// Loads a PCD file (any PCL encoding) into XYZRGBA; colour is zero when the file has none.
 /// nullopt with `error` = "PATH: reason" when missing, unreadable, corrupt or without x/y/z.
 std::optional<Cloud> LoadCloud(const std::string& path, std::string* error);
+
+/// A cloud with a per-point integer label (as the mOSD scenes: 0 invalid, 1-9 table, 10k+j
+/// part j of object k); labels.size() == cloud.size().
+struct LabelledCloud {
+  Cloud cloud;
+  std::vector<std::uint32_t> labels;
+};
+
+/// Loads a PCD file with a `label` field; errors as LoadCloud, and when there is no label field.
+std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::string* error);
 
 /// A model by spec: a PCD path, or synthetic:target[?seed=N] / synthetic:ball[?seed=N] (the
 /// synthetic Kinect's target or paper-protocol ball, captured alone; seed 1 by default).

@@ -252,4 +252,67 @@ TEST(Cli, EvalRejectsABadConfigurationsFileNamingTheEntry) {
   EXPECT_NE(r.out.find("configurations[0].fovea.levels_m"), std::string::npos) << r.out;
 }
 
+TEST(Cli, SegmentCutsTheFlatBoxOutOfARealSceneAndListsEveryCluster) {
+  SACCADE_REQUIRE_DATA("pcl_data/mOSD/test0.pcd");
+  const std::string out = ::testing::TempDir() + "flat_box.pcd";
+  std::remove(out.c_str());
+  const CliRun r =
+      Saccade("segment --scene " + saccade::testing::DataPath("pcl_data/mOSD/test0.pcd") +
+              " --out " + out + " --pick 1 --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  // Two objects stand apart on the table: a muesli box (0.59 m away, 16,000 points) and a flat
+  // box behind it (0.84 m, 9,800 points in its label).
+  const auto count = [&](const std::string& key) {
+    std::size_t n = 0;
+    for (auto at = r.out.find(key); at != std::string::npos; at = r.out.find(key, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("\"index\":"), 2u) << r.out;
+  EXPECT_EQ(count("\"box_min\":["), 2u) << r.out;
+  EXPECT_NE(r.out.find("\"picked\":1"), std::string::npos) << r.out;
+  // The written model is the second cluster, the flat box.
+  std::ifstream model(out);
+  std::string header((std::istreambuf_iterator<char>(model)), {});
+  const auto points = header.find("POINTS ");
+  ASSERT_NE(points, std::string::npos);
+  const long n = std::strtol(header.c_str() + points + 7, nullptr, 10);
+  EXPECT_GT(n, 9000);
+  EXPECT_LT(n, 10500);
+}
+
+TEST(Cli, SegmentBadInputIsOneLineAndWritesNothing) {
+  const std::string out = ::testing::TempDir() + "never.pcd";
+  std::remove(out.c_str());
+  const std::string nan = WriteFile(
+      "nan_scene.pcd",
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\n"
+      "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\nnan nan nan\nnan nan nan\n");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--scene " + nan, "no finite point"},
+      {"--scene /nonexistent/s.pcd", "/nonexistent/s.pcd: no such file"},
+      {"--scene " + nan + " --plane-fraction 2", "plane_fraction"},
+      {"--scene " + nan + " --pick biggest", ""}};
+  for (const auto& [args, message] : cases) {
+    const CliRun r = Saccade("segment " + args + " --out " + out);
+    EXPECT_NE(r.code, 0) << args;
+    EXPECT_EQ(Lines(r.out), 1) << args << ": " << r.out;
+    EXPECT_NE(r.out.find(message), std::string::npos) << args << ": " << r.out;
+    EXPECT_FALSE(std::ifstream(out).good()) << args << " wrote " << out;
+  }
+  if (saccade::testing::DataPresent("pcl_data/mOSD/test0.pcd")) {
+    const std::string scene = saccade::testing::DataPath("pcl_data/mOSD/test0.pcd");
+    for (const auto& [args, message] :
+         std::vector<std::pair<std::string, std::string>>{{"--z-max 0.3", "removes all"},
+                                                          {"--pick 7", "only 2 cluster(s)"},
+                                                          {"--min-points 100000", "no cluster"}}) {
+      const CliRun r = Saccade("segment --scene " + scene + " " + args + " --out " + out);
+      EXPECT_EQ(r.code, 1) << args << ": " << r.out;
+      EXPECT_EQ(Lines(r.out), 1) << args << ": " << r.out;
+      EXPECT_NE(r.out.find(message), std::string::npos) << args << ": " << r.out;
+      EXPECT_FALSE(std::ifstream(out).good()) << args << " wrote " << out;
+    }
+  }
+}
+
 }  // namespace

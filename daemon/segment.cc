@@ -1,0 +1,145 @@
+// saccade segment: cut an object out of a capture and write it as a model (paper §5.8.1).
+#include "core/segmentation.h"
+#include "daemon/args.h"
+#include "daemon/commands.h"
+#include "io/cloud_io.h"
+#include "io/json.h"
+
+#include <cmath>
+#include <iomanip>
+#include <ostream>
+
+namespace saccade {
+namespace {
+
+void WriteVector(JsonWriter& j, const Eigen::Vector3f& v) {
+  j.BeginArray().Value(double(v.x())).Value(double(v.y())).Value(double(v.z())).EndArray();
+}
+
+std::string SegmentationJson(const Segmentation& s, std::size_t picked, const std::string& out) {
+  JsonWriter j;
+  j.BeginObject().Key("finite_points").Value(s.finite_points);
+  j.Key("kept_points").Value(s.kept_points).Key("planes").BeginArray();
+  for (const Plane& p : s.planes) {
+    j.BeginObject().Key("coefficients").BeginArray();
+    for (int k = 0; k < 4; ++k) j.Value(double(p.coefficients[k]));
+    j.EndArray().Key("points").Value(p.inliers).EndObject();
+  }
+  j.EndArray().Key("clusters").BeginArray();
+  for (std::size_t i = 0; i < s.clusters.size(); ++i) {
+    const Cluster& c = s.clusters[i];
+    j.BeginObject().Key("index").Value(i).Key("points").Value(c.indices.size());
+    j.Key("centroid");
+    WriteVector(j, c.centroid_m);
+    j.Key("box_min");
+    WriteVector(j, c.box.min);
+    j.Key("box_max");
+    WriteVector(j, c.box.max);
+    j.EndObject();
+  }
+  j.EndArray().Key("picked").Value(picked).Key("out").Value(out).EndObject();
+  return j.str();
+}
+
+void PrintSegmentation(const Segmentation& s, std::size_t picked, const std::string& out,
+                       std::ostream& os) {
+  os << std::fixed << std::setprecision(3);
+  os << s.finite_points << " finite points, " << s.kept_points << " within z_max; "
+     << s.planes.size() << " plane(s) removed:";
+  for (const Plane& p : s.planes) os << " " << p.inliers;
+  os << "\n" << s.clusters.size() << " cluster(s), largest first:\n";
+  for (std::size_t i = 0; i < s.clusters.size(); ++i) {
+    const Cluster& c = s.clusters[i];
+    const Eigen::Vector3f size = c.box.Size();
+    os << (i == picked ? "* " : "  ") << i << ": " << c.indices.size() << " points, centroid ("
+       << c.centroid_m.x() << ", " << c.centroid_m.y() << ", " << c.centroid_m.z() << ") m, size "
+       << size.x() << " x " << size.y() << " x " << size.z() << " m\n";
+  }
+  os << "wrote cluster " << picked << " to " << out << "\n";
+}
+
+// --pick largest|nearest|N: the cluster to write, or nullopt with `error`.
+std::optional<std::size_t> Pick(const std::string& how, const Segmentation& s, std::string* error) {
+  if (how == "largest") return 0;
+  if (how == "nearest") {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < s.clusters.size(); ++i)
+      if (s.clusters[i].centroid_m.norm() < s.clusters[best].centroid_m.norm()) best = i;
+    return best;
+  }
+  const auto n = Args::ParseNumber(how);
+  if (!n || *n < 0 || *n != std::floor(*n)) {
+    *error = "--pick expects largest, nearest or a cluster index, got '" + how + "'";
+    return std::nullopt;
+  }
+  if (*n >= double(s.clusters.size())) {
+    *error = "--pick " + how + ": only " + std::to_string(s.clusters.size()) +
+             " cluster(s) found (indices from 0)";
+    return std::nullopt;
+  }
+  return std::size_t(*n);
+}
+
+}  // namespace
+
+int RunSegment(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
+  Args args;
+  std::string error;
+  if (!args.Parse(argv,
+                  {"scene", "out", "z-max", "plane-fraction", "plane-distance", "cluster-distance",
+                   "min-points", "pick", "seed"},
+                  {"json"}, &error))
+    return Usage(err, "segment", error);
+  for (const char* required : {"scene", "out"})
+    if (!args.Has(required)) return Usage(err, "segment", std::string("missing --") + required);
+  SegmentationOptions options;
+  for (auto [flag, field] : {std::pair<const char*, float*>{"z-max", &options.z_max_m},
+                             {"plane-fraction", &options.plane_fraction},
+                             {"plane-distance", &options.plane_distance_m},
+                             {"cluster-distance", &options.cluster_distance_m}}) {
+    if (!args.Has(flag)) continue;
+    const auto v = Args::ParseNumber(args.Get(flag));
+    if (!v) return Usage(err, "segment", std::string("--") + flag + " expects a number");
+    *field = static_cast<float>(*v);
+  }
+  if (args.Has("min-points")) {
+    const auto v = Args::ParsePositiveInt(args.Get("min-points"));
+    if (!v) return Usage(err, "segment", "--min-points expects a positive integer");
+    options.min_points = *v;
+  }
+  if (args.Has("seed")) {
+    const auto v = Args::ParsePositiveInt(args.Get("seed"));
+    if (!v) return Usage(err, "segment", "--seed expects a positive integer");
+    options.seed = static_cast<std::uint32_t>(*v);
+  }
+  if (!options.IsValid(&error)) return Usage(err, "segment", error);
+
+  const std::string scene_path = args.Get("scene"), out_path = args.Get("out");
+  const auto scene = LoadCloud(scene_path, &error);
+  if (!scene) {
+    err << "saccade segment: " << error << "\n";
+    return kExitFailure;
+  }
+  Segmentation segmentation;
+  if (!Segment(*scene, options, &segmentation, &error)) {
+    err << "saccade segment: " << scene_path << ": " << error << "\n";
+    return kExitFailure;
+  }
+  const auto picked = Pick(args.Get("pick", "largest"), segmentation, &error);
+  if (!picked) {
+    err << "saccade segment: " << scene_path << ": " << error << "\n";
+    return kExitFailure;
+  }
+  Cloud model = ExtractPoints(*scene, segmentation.clusters[*picked].indices);
+  if (!SaveCloud(out_path, model, &error)) {
+    err << "saccade segment: " << error << "\n";
+    return kExitFailure;
+  }
+  if (args.Has("json"))
+    out << SegmentationJson(segmentation, *picked, out_path) << "\n";
+  else
+    PrintSegmentation(segmentation, *picked, out_path, out);
+  return kExitOk;
+}
+
+}  // namespace saccade
