@@ -49,7 +49,7 @@ bool RecognitionOptions::IsValid(std::string* error) const {
   if (hough_threshold < 1) return Fail(error, "hough_threshold must be >= 1");
   if (match_branching < 2) return Fail(error, "match_branching must be >= 2");
   if (match_checks < 1) return Fail(error, "match_checks must be >= 1");
-  return true;
+  return verify.IsValid(error);
 }
 
 RecognitionOptions RecognitionOptions::CrossCapture() {
@@ -115,6 +115,7 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
 
   const std::vector<std::uint8_t> mask(out.cloud_.size(), 1);
   const Normals normals = KnnNormals(out.cloud_, mask, options.model_normal_neighbors);
+  out.verification_ = MakeVerificationModel(out.cloud_, normals, options.verify.model_points);
   std::vector<int> all(out.cloud_.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<int> keypoints =
@@ -386,7 +387,16 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   t = Clock::now();
   result.instances = HoughGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc,
                                 scene, correspondences, options);
+  stats.hypotheses = result.instances.size();
   stats.stage_ms.emplace_back("group", MsSince(t));
+
+  // 7. Keep the hypotheses the scene confirms, refined.
+  t = Clock::now();
+  if (options.verify.enabled)
+    result.instances = VerifyInstances(model.verification(), model.centroid(), scene,
+                                       organized ? intrinsics : std::nullopt,
+                                       std::move(result.instances), options.verify, parallel_for);
+  stats.stage_ms.emplace_back("verify", MsSince(t));
   stats.stage_ms.emplace_back("total", MsSince(t_total));
   return result;
 }

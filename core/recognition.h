@@ -7,6 +7,7 @@
 #include "core/foveation.h"
 #include "core/parallel.h"
 #include "core/types.h"
+#include "core/verification.h"
 
 #include <map>
 #include <memory>
@@ -46,6 +47,8 @@ struct RecognitionOptions {
   int match_branching = 16;
   int match_checks = 32;
   unsigned match_seed = 42;
+  /// Hypothesis verification after grouping (ICP, surface and free-space checks, colour).
+  VerificationOptions verify;
 
   bool IsValid(std::string* error) const;
 
@@ -68,6 +71,8 @@ class ModelDescription {
   /// The point instances vote for, model frame, metres: the centroid of the model's points, or
   /// the origin with RecognitionOptions::vote_for_model_origin.
   const Eigen::Vector3f& centroid() const { return centroid_; }
+  /// The model as hypothesis verification uses it.
+  const VerificationModel& verification() const { return verification_; }
 
   /// Nearest model descriptor of `shot` (kShotLength floats): index into descriptors() and
   /// squared distance.
@@ -80,6 +85,7 @@ class ModelDescription {
   Cloud cloud_;
   Descriptors descriptors_;
   Eigen::Vector3f centroid_ = Eigen::Vector3f::Zero();
+  VerificationModel verification_;
   struct Index;
   std::unique_ptr<Index> index_;
   int checks_ = 0;  // set from RecognitionOptions::match_checks by DescribeModel
@@ -99,7 +105,8 @@ struct RecognitionStats {
   std::vector<std::size_t> level_keypoints;  // keypoints per level
   std::size_t described = 0;                 // keypoints with a valid descriptor
   std::size_t correspondences = 0;           // matches below d²_max
-  /// Milliseconds per stage: foveate, normals, keypoints, describe, match, group, total.
+  std::size_t hypotheses = 0;                // instances from grouping, before verification
+  /// Milliseconds per stage: foveate, normals, keypoints, describe, match, group, verify, total.
   std::vector<std::pair<std::string, double>> stage_ms;
   std::size_t TotalPoints() const;
   std::size_t TotalKeypoints() const;

@@ -50,6 +50,12 @@ struct Detection {
   Eigen::Matrix4f model_to_scene = Eigen::Matrix4f::Identity();  // X_SM: model frame M in scene S
   int votes = 0;                                         // correspondences that agree on this pose
   Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();  // model centroid in the scene frame
+  /// Set by verification (-1 when not verified): the share of the model's visible points that lie
+  /// on the scene surface, the share of all its points that do, and the share of those whose
+  /// colour agrees (-1 when not checked).
+  float fitness = -1;
+  float coverage = -1;
+  float colour_agreement = -1;
   /// (model keypoint index, scene keypoint index) pairs behind this instance.
   std::vector<std::pair<int, int>> correspondences;
 };

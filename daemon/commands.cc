@@ -76,6 +76,8 @@ std::string ResultJson(const RecognitionResult& r) {
     WriteMatrix(j, d.model_to_scene);
     j.Key("votes").Value(d.votes).Key("centroid");
     WriteVector(j, d.centroid_m);
+    j.Key("fitness").Value(double(d.fitness)).Key("coverage").Value(double(d.coverage));
+    j.Key("colour_agreement").Value(double(d.colour_agreement));
     j.EndObject();
   }
   j.EndArray().Key("timing_ms").BeginObject();
@@ -92,6 +94,7 @@ std::string ResultJson(const RecognitionResult& r) {
         .EndObject();
   j.EndArray();
   j.Key("described").Value(r.stats.described).Key("correspondences").Value(r.stats.correspondences);
+  j.Key("hypotheses").Value(r.stats.hypotheses);
   j.EndObject();
   return j.str();
 }
@@ -102,7 +105,10 @@ void PrintResult(const RecognitionResult& r, std::ostream& out) {
   for (std::size_t i = 0; i < r.instances.size(); ++i) {
     const Detection& d = r.instances[i];
     out << "instance " << i << ": votes " << d.votes << ", centroid (" << d.centroid_m.x() << ", "
-        << d.centroid_m.y() << ", " << d.centroid_m.z() << ") m, pose model->scene:\n";
+        << d.centroid_m.y() << ", " << d.centroid_m.z() << ") m";
+    if (d.fitness >= 0) out << ", fitness " << d.fitness << ", coverage " << d.coverage;
+    if (d.colour_agreement >= 0) out << ", colour " << d.colour_agreement;
+    out << ", pose model->scene:\n";
     for (int row = 0; row < 4; ++row) {
       out << "  ";
       for (int c = 0; c < 4; ++c) out << std::setw(10) << d.model_to_scene(row, c);
@@ -114,7 +120,7 @@ void PrintResult(const RecognitionResult& r, std::ostream& out) {
     out << std::setw(5) << k << std::setw(8) << r.stats.level_points[k] << std::setw(11)
         << r.stats.level_keypoints[k] << "\n";
   out << "described " << r.stats.described << ", correspondences " << r.stats.correspondences
-      << "\n";
+      << ", hypotheses " << r.stats.hypotheses << "\n";
   out << std::setprecision(2) << "timing ms:";
   for (const auto& [stage, ms] : r.stats.stage_ms) out << " " << stage << " " << ms;
   out << "\n";

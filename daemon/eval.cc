@@ -1,9 +1,11 @@
 // `saccade eval`: recognition configurations over a dataset with ground truth, scored with the
 // paper's rule (§5.3), written as CSV and Markdown tables and plotted with gnuplot.
 #include "core/evaluation.h"
+#include "core/fail.h"
 #include "core/features.h"
 #include "core/recognition.h"
 #include "core/reference_pipeline.h"
+#include "core/segmentation.h"
 #include "daemon/args.h"
 #include "daemon/commands.h"
 #include "daemon/tbb_parallel.h"
@@ -19,8 +21,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <ostream>
 #include <sstream>
+#include <tuple>
 
 namespace saccade {
 namespace {
@@ -32,6 +36,13 @@ struct Scene {
   Frame frame;
   Eigen::Vector3f truth_m = Eigen::Vector3f::Zero();  // the generator's (or recording's) centre
   std::optional<Eigen::Vector3f> sphere_truth_m;      // the RANSAC sphere fit's centre
+  std::size_t model = 0;                              // which model is searched in it
+};
+
+// A model and the point of it whose place in the scene is scored.
+struct EvalModel {
+  Cloud cloud;
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
 };
 
 // What one configuration found in one frame, with the fovea at one offset from the truth.
@@ -63,8 +74,8 @@ std::vector<Eigen::Vector3f> SweepOffsets() {
 
 class Runner {
  public:
-  Runner(const Cloud& model, const Eigen::Vector3f& model_centre, ParallelFor parallel)
-      : model_(model), model_centre_(model_centre), parallel_(std::move(parallel)) {}
+  Runner(const std::vector<EvalModel>& models, ParallelFor parallel)
+      : models_(models), parallel_(std::move(parallel)) {}
 
   // Runs `c` over every scene once per fovea offset from the truth (the model is described
   // once); trials come back per offset, then per scene. False with `error` when the model
@@ -75,11 +86,18 @@ class Runner {
     trials->assign(offsets.size(), {});
     const RecognitionOptions& o = c.config.recognition;
     const bool is_stock = c.pipeline == "stock";
-    const std::optional<ReferenceModel> stock =
-        is_stock ? DescribeReferenceModel(model_, o, error) : std::nullopt;
-    const std::optional<ModelDescription> described =
-        is_stock ? std::nullopt : DescribeModel(model_, o, error);
-    if (!stock && !described) return false;
+    // ReferenceModel is move-constructible only: built in place.
+    std::vector<std::optional<ReferenceModel>> stock(models_.size());
+    std::vector<std::optional<ModelDescription>> described(models_.size());
+    for (std::size_t m = 0; m < models_.size(); ++m) {
+      if (is_stock) {
+        if (auto r = DescribeReferenceModel(models_[m].cloud, o, error))
+          stock[m].emplace(std::move(*r));
+      } else {
+        described[m] = DescribeModel(models_[m].cloud, o, error);
+      }
+      if (!stock[m] && !described[m]) return false;
+    }
     for (std::size_t k = 0; k < offsets.size(); ++k) {
       const Eigen::Vector3f& offset = offsets[k];
       for (const Scene& s : scenes) {
@@ -89,13 +107,14 @@ class Runner {
         q.fovea = c.config.fovea;
         q.intrinsics = s.frame.intrinsics;
         const auto t0 = std::chrono::steady_clock::now();
-        const RecognitionResult r = stock ? RecognizeReference(*stock, *s.frame.cloud, o)
-                                          : Recognize(*described, *s.frame.cloud, q, o, parallel_);
+        const RecognitionResult r =
+            is_stock ? RecognizeReference(*stock[s.model], *s.frame.cloud, o)
+                     : Recognize(*described[s.model], *s.frame.cloud, q, o, parallel_);
         Trial t;
         t.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                    .count();
         for (const Detection& d : r.instances)
-          t.centres.push_back((d.model_to_scene * model_centre_.homogeneous()).head<3>());
+          t.centres.push_back((d.model_to_scene * models_[s.model].centre.homogeneous()).head<3>());
         (*trials)[k].push_back(std::move(t));
       }
     }
@@ -103,8 +122,7 @@ class Runner {
   }
 
  private:
-  const Cloud& model_;
-  const Eigen::Vector3f model_centre_;
+  const std::vector<EvalModel>& models_;
   const ParallelFor parallel_;
 };
 
@@ -127,6 +145,60 @@ Totals Score(const std::vector<Trial>& trials, const std::vector<Scene>& scenes,
   return t;
 }
 
+// Each case's model (its object's labelled points, in the camera frame of its capture) and scene
+// (the other capture, with the centroid of the object's labelled points as the truth).
+bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
+                    std::vector<EvalModel>* models, std::vector<Scene>* scenes,
+                    std::string* error) {
+  std::vector<LabelledCase> cases;
+  if (!LoadLabelledCases(path, data_dir, &cases, error)) return false;
+  std::map<std::string, LabelledCloud> loaded;
+  const auto load = [&](const std::string& file) -> const LabelledCloud* {
+    auto it = loaded.find(file);
+    if (it == loaded.end()) {
+      auto cloud = LoadLabelledCloud(file, error);
+      if (!cloud) return nullptr;
+      it = loaded.emplace(file, std::move(*cloud)).first;
+    }
+    return &it->second;
+  };
+  // The object's finite points, by mOSD's labels (object k: 10k..10k+9).
+  const auto object = [](const LabelledCloud& c, int k) {
+    std::vector<int> out;
+    for (std::size_t i = 0; i < c.labels.size(); ++i)
+      if (int(c.labels[i] / 10) == k && c.labels[i] >= 10 &&
+          c.cloud[i].getVector3fMap().allFinite())
+        out.push_back(int(i));
+    return out;
+  };
+  for (const LabelledCase& c : cases) {
+    const LabelledCloud* source = load(c.model_file);
+    const LabelledCloud* target = source ? load(c.scene_file) : nullptr;
+    if (!target) return false;
+    const std::vector<int> model_points = object(*source, c.model_object);
+    const std::vector<int> truth_points = object(*target, c.scene_object);
+    for (const auto& [file, k, points] : {std::tuple<std::string, int, const std::vector<int>*>{
+                                              c.model_file, c.model_object, &model_points},
+                                          {c.scene_file, c.scene_object, &truth_points}})
+      if (points->empty())
+        return Fail(
+            error, path + ": case " + c.name + ": " + file + " has no object " + std::to_string(k));
+    EvalModel model;
+    model.cloud = ExtractPoints(source->cloud, model_points);
+    model.centre = *FiniteCentroid(model.cloud);
+    Scene s;
+    s.truth_m = *FiniteCentroid(ExtractPoints(target->cloud, truth_points));
+    s.frame.cloud = std::make_shared<const Cloud>(target->cloud);
+    if (const auto k = EstimateIntrinsics(target->cloud)) s.frame.intrinsics = *k;
+    s.frame.sequence = scenes->size();
+    s.model = models->size();
+    models->push_back(std::move(model));
+    scenes->push_back(std::move(s));
+  }
+  if (cases.empty()) return Fail(error, path + ": no cases");
+  return true;
+}
+
 }  // namespace
 
 int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
@@ -134,11 +206,15 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   std::string error;
   if (!args.Parse(argv,
                   {"dataset", "model", "configs", "out", "model-centre", "sphere-radius",
-                   "reference", "frames", "sweep", "truth-pose"},
+                   "reference", "frames", "sweep", "truth-pose", "cases", "data"},
                   {"no-plots"}, &error))
     return Usage(err, "eval", error);
+  const bool cases = args.Has("cases");
+  if (cases && (args.Has("dataset") || args.Has("model")))
+    return Usage(err, "eval", "--cases brings its own models and scenes: no --dataset or --model");
   for (const char* required : {"dataset", "model", "configs"})
-    if (!args.Has(required)) return Usage(err, "eval", std::string("missing --") + required);
+    if (!args.Has(required) && !(cases && std::string(required) != "configs"))
+      return Usage(err, "eval", std::string("missing --") + required);
   const auto fail = [&](const std::string& message) {
     err << "saccade eval: " << message << "\n";
     return kExitFailure;
@@ -150,15 +226,6 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   std::vector<EvalConfiguration> configs;
   if (!LoadEvalConfigurations(args.Get("configs"), RecognitionConfig{}, &configs, &error))
     return fail(error);
-  std::optional<Cloud> model = LoadModelCloud(args.Get("model"), &error);
-  if (!model) return fail(error);
-  std::optional<Eigen::Vector3f> model_centre = FiniteCentroid(*model);
-  if (!model_centre) return fail(args.Get("model") + ": the model has no valid point");
-  if (args.Has("model-centre")) {
-    model_centre = Args::ParseVector3(args.Get("model-centre"));
-    if (!model_centre)
-      return Usage(err, "eval", "--model-centre expects x,y,z in the model's frame");
-  }
   std::optional<float> sphere_radius;
   if (args.Has("sphere-radius")) {
     const auto r = Args::ParseNumber(args.Get("sphere-radius"));
@@ -181,66 +248,83 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
                      [&](const EvalConfiguration& c) { return c.name == name; }))
       return fail("--sweep: no configuration named '" + name + "'");
 
-  // With --truth-pose, one pose (model to scene) is the truth of every frame: a single
-  // capture such as PCL's milk scene, whose pose file comes with it.
-  std::optional<Eigen::Vector3f> posed_truth;
-  if (args.Has("truth-pose")) {
-    const auto pose = LoadPose(args.Get("truth-pose"), &error);
-    if (!pose) return fail(error);
-    posed_truth = (*pose * model_centre->homogeneous()).head<3>();
-  }
-
-  // The dataset, every frame with its truth: a folder, a source spec, or one PCD file.
-  std::error_code ec;
-  const std::string dataset = args.Get("dataset");
+  std::vector<EvalModel> models;
   std::vector<Scene> scenes;
-  SphereFitOptions sphere_options;
-  if (sphere_radius) {
-    sphere_options.min_radius_m = *sphere_radius * 0.75f;
-    sphere_options.max_radius_m = *sphere_radius * 1.25f;
-  }
-  const auto add_scene = [&](Scene s) {
-    if (posed_truth) {
-      s.truth_m = *posed_truth;
-    } else if (s.frame.truth) {
-      s.truth_m = s.frame.truth->centroid_m;
-    } else {
-      error = dataset + ": frame " + std::to_string(s.frame.sequence) +
-              " has no ground truth (truth.csv beside the frames, or --truth-pose)";
-      return false;
-    }
-    if (sphere_radius) {
-      if (const auto sphere = FitSphere(*s.frame.cloud, sphere_options))
-        s.sphere_truth_m = sphere->centre_m;
-    }
-    scenes.push_back(std::move(s));
-    return true;
-  };
-  if (fs::is_regular_file(dataset, ec)) {
-    std::optional<Cloud> cloud = LoadCloud(dataset, &error);
-    if (!cloud) return fail(error);
-    Scene s;
-    if (const auto k = EstimateIntrinsics(*cloud)) s.frame.intrinsics = *k;
-    s.frame.cloud = std::make_shared<const Cloud>(std::move(*cloud));
-    if (!add_scene(std::move(s))) return fail(error);
+  const std::string dataset = cases ? args.Get("cases") : args.Get("dataset");
+  if (cases) {
+    if (!LoadCaseScenes(dataset, args.Get("data", "../shared/data"), &models, &scenes, &error))
+      return fail(error);
   } else {
-    if (dataset.find(':') == std::string::npos && !fs::is_directory(dataset, ec))
-      return fail(dataset + ": not a folder, a PCD file or a source spec");
-    auto source = OpenSource(DatasetSpec(dataset), &error);
-    if (!source) return fail(error);
-    while (static_cast<int>(scenes.size()) < max_frames) {
+    std::optional<Cloud> model = LoadModelCloud(args.Get("model"), &error);
+    if (!model) return fail(error);
+    std::optional<Eigen::Vector3f> model_centre = FiniteCentroid(*model);
+    if (!model_centre) return fail(args.Get("model") + ": the model has no valid point");
+    if (args.Has("model-centre")) {
+      model_centre = Args::ParseVector3(args.Get("model-centre"));
+      if (!model_centre)
+        return Usage(err, "eval", "--model-centre expects x,y,z in the model's frame");
+    }
+    models.push_back({std::move(*model), *model_centre});
+    // With --truth-pose, one pose (model to scene) is the truth of every frame: a single
+    // capture such as PCL's milk scene, whose pose file comes with it.
+    std::optional<Eigen::Vector3f> posed_truth;
+    if (args.Has("truth-pose")) {
+      const auto pose = LoadPose(args.Get("truth-pose"), &error);
+      if (!pose) return fail(error);
+      posed_truth = (*pose * model_centre->homogeneous()).head<3>();
+    }
+
+    // The dataset, every frame with its truth: a folder, a source spec, or one PCD file.
+    std::error_code ec;
+    SphereFitOptions sphere_options;
+    if (sphere_radius) {
+      sphere_options.min_radius_m = *sphere_radius * 0.75f;
+      sphere_options.max_radius_m = *sphere_radius * 1.25f;
+    }
+    const auto add_scene = [&](Scene s) {
+      if (posed_truth) {
+        s.truth_m = *posed_truth;
+      } else if (s.frame.truth) {
+        s.truth_m = s.frame.truth->centroid_m;
+      } else {
+        error = dataset + ": frame " + std::to_string(s.frame.sequence) +
+                " has no ground truth (truth.csv beside the frames, or --truth-pose)";
+        return false;
+      }
+      if (sphere_radius) {
+        if (const auto sphere = FitSphere(*s.frame.cloud, sphere_options))
+          s.sphere_truth_m = sphere->centre_m;
+      }
+      scenes.push_back(std::move(s));
+      return true;
+    };
+    if (fs::is_regular_file(dataset, ec)) {
+      std::optional<Cloud> cloud = LoadCloud(dataset, &error);
+      if (!cloud) return fail(error);
       Scene s;
-      const auto status = source->Next(&s.frame, &error);
-      if (status == FrameSource::Status::kEnd) break;
-      if (status == FrameSource::Status::kError || !add_scene(std::move(s))) return fail(error);
+      if (const auto k = EstimateIntrinsics(*cloud)) s.frame.intrinsics = *k;
+      s.frame.cloud = std::make_shared<const Cloud>(std::move(*cloud));
+      if (!add_scene(std::move(s))) return fail(error);
+    } else {
+      if (dataset.find(':') == std::string::npos && !fs::is_directory(dataset, ec))
+        return fail(dataset + ": not a folder, a PCD file or a source spec");
+      auto source = OpenSource(DatasetSpec(dataset), &error);
+      if (!source) return fail(error);
+      while (static_cast<int>(scenes.size()) < max_frames) {
+        Scene s;
+        const auto status = source->Next(&s.frame, &error);
+        if (status == FrameSource::Status::kEnd) break;
+        if (status == FrameSource::Status::kError || !add_scene(std::move(s))) return fail(error);
+      }
     }
   }
   if (scenes.empty()) return fail(dataset + ": no frames");
 
   const fs::path dir = args.Get("out", "eval-out");
+  std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) return fail(dir.string() + ": cannot create it (" + ec.message() + ")");
-  Runner runner(*model, *model_centre, MakeTbbParallelFor());
+  Runner runner(models, MakeTbbParallelFor());
   // Per configuration: the trials with the fovea on the truth, and for swept ones the Fig. 10
   // offsets too (the first of which is the truth itself).
   const std::vector<Eigen::Vector3f> sweep_offsets = SweepOffsets();

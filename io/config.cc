@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <map>
+#include <tuple>
 
 namespace saccade {
 namespace {
@@ -280,7 +281,18 @@ ConfigKeys RecognitionKeys(RecognitionOptions* r) {
       .Add("vote_for_model_origin", &r->vote_for_model_origin)
       .Add("match_branching", &r->match_branching)
       .Add("match_checks", &r->match_checks)
-      .Add("match_seed", &r->match_seed);
+      .Add("match_seed", &r->match_seed)
+      .Add("verify", &r->verify.enabled)
+      .Add("verify_candidates", &r->verify.max_candidates)
+      .Add("verify_model_points", &r->verify.model_points)
+      .Add("verify_icp_iterations", &r->verify.icp_iterations)
+      .Add("verify_icp_max_distance_m", &r->verify.icp_max_distance_m)
+      .Add("verify_inlier_distance_m", &r->verify.inlier_distance_m)
+      .Add("verify_min_fitness", &r->verify.min_fitness)
+      .Add("verify_min_coverage", &r->verify.min_coverage)
+      .Add("verify_min_depth_ratio", &r->verify.min_depth_ratio)
+      .Add("verify_min_colour_agreement", &r->verify.min_colour_agreement)
+      .Add("verify_max_sink_m", &r->verify.max_sink_m);
   return k;
 }
 
@@ -380,6 +392,52 @@ bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& ba
       *error = path + ": " + entry + " (" + c.name + "): " + why;
       return false;
     }
+    out->push_back(std::move(c));
+  }
+  return true;
+}
+
+bool LoadLabelledCases(const std::string& path, const std::string& data_dir,
+                       std::vector<LabelledCase>* out, std::string* error) {
+  YAML::Node root;
+  if (!LoadRoot(path, &root, error)) return false;
+  if (root.IsNull() || !root["cases"] || !root["cases"].IsSequence() || root.size() != 1) {
+    *error = path + ": expected exactly one key, 'cases', holding a list";
+    return false;
+  }
+  out->clear();
+  const YAML::Node list = root["cases"];
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string entry = "cases[" + std::to_string(i) + "]";
+    if (!list[i].IsMap()) {
+      *error = path + ": key '" + entry + "': expected a mapping";
+      return false;
+    }
+    LabelledCase c;
+    const std::map<std::string, Setter> capture_model = {{"file", Scalar(&c.model_file)},
+                                                         {"object", Scalar(&c.model_object)}};
+    const std::map<std::string, Setter> capture_scene = {{"file", Scalar(&c.scene_file)},
+                                                         {"object", Scalar(&c.scene_object)}};
+    const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)}};
+    for (const auto& kv : list[i]) {
+      const std::string key = kv.first.as<std::string>();
+      const std::string qualified = entry + "." + key;
+      const bool ok =
+          key == "model"   ? ApplySection(kv.second, qualified, capture_model, path, error)
+          : key == "scene" ? ApplySection(kv.second, qualified, capture_scene, path, error)
+                           : ApplyKey(top, key, qualified, kv.second, path, error);
+      if (!ok) return false;
+    }
+    for (const auto& [what, file, object] :
+         {std::tuple<const char*, std::string*, int>{"model", &c.model_file, c.model_object},
+          {"scene", &c.scene_file, c.scene_object}}) {
+      if (file->empty() || object < 1) {
+        *error = path + ": key '" + entry + "." + what + "': needs a file and an object >= 1";
+        return false;
+      }
+      if ((*file)[0] != '/') *file = data_dir + "/" + *file;
+    }
+    if (c.name.empty()) c.name = std::to_string(i);
     out->push_back(std::move(c));
   }
   return true;

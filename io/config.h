@@ -76,6 +76,24 @@ struct EvalConfiguration {
 bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& base,
                             std::vector<EvalConfiguration>* out, std::string* error);
 
+/// One cross-capture case: an object cut by its label out of one labelled capture, searched in
+/// another capture where the same object appears (mOSD labels: object k = labels 10k..10k+9).
+struct LabelledCase {
+  std::string name;
+  std::string model_file;  // resolved against the data folder
+  int model_object = 0;
+  std::string scene_file;
+  int scene_object = 0;
+};
+
+/// A cases file:
+///   cases:
+///     - {name: tin-31-in-44, model: {file: pcl_data/mOSD/test31.pcd, object: 2},
+///        scene: {file: pcl_data/mOSD/test44.pcd, object: 2}}
+/// Relative files are resolved against `data_dir`. Strict as the other loaders.
+bool LoadLabelledCases(const std::string& path, const std::string& data_dir,
+                       std::vector<LabelledCase>* out, std::string* error);
+
 /// A synthetic scenario file: `preset: NAME` (required, the starting point), then any of
 /// name, frames, rate_hz, seed, table_height_m, occluded_from, occluded_frames, and the
 /// sections target_motion / camera_motion (Trajectory fields; kind: static | linear | circular

@@ -1,0 +1,293 @@
+#include "core/verification.h"
+
+#include "core/fail.h"
+
+#include <pcl/kdtree/kdtree_flann.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace saccade {
+
+bool VerificationOptions::IsValid(std::string* error) const {
+  if (max_candidates < 1) return Fail(error, "verify_candidates must be >= 1");
+  if (model_points < 10) return Fail(error, "verify_model_points must be >= 10");
+  if (icp_iterations < 0) return Fail(error, "verify_icp_iterations must be >= 0");
+  const std::pair<const char*, float> positive[] = {
+      {"verify_icp_max_distance_m", icp_max_distance_m},
+      {"verify_inlier_distance_m", inlier_distance_m},
+      {"verify_max_sink_m", max_sink_m}};
+  for (const auto& [name, v] : positive)
+    if (!(std::isfinite(v) && v > 0)) return Fail(error, std::string(name) + " must be > 0");
+  const std::pair<const char*, float> shares[] = {
+      {"verify_min_fitness", min_fitness},
+      {"verify_min_coverage", min_coverage},
+      {"verify_min_depth_ratio", min_depth_ratio},
+      {"verify_min_colour_agreement", min_colour_agreement}};
+  for (const auto& [name, v] : shares)
+    if (!(v >= 0 && v <= 1)) return Fail(error, std::string(name) + " must be in [0, 1]");
+  return true;
+}
+
+namespace {
+
+// True when the points carry colour: more than one colour among them (a cloud saved without
+// colour reads as all black, and some files fill the field with one constant).
+bool HasColour(const Cloud& cloud) {
+  if (cloud.empty()) return false;
+  const auto rgb = [](const PointT& p) { return p.rgba & 0xffffffu; };
+  const std::uint32_t first = rgb(cloud[0]);
+  for (const PointT& p : cloud.points)
+    if (rgb(p) != first) return true;
+  return false;
+}
+
+// The scene's finite points within `radius_m` of `centre`: for an organized scene only the pixel
+// rectangle the sphere can project into is scanned.
+pcl::PointCloud<pcl::PointXYZ>::Ptr Crop(const Cloud& scene,
+                                         const std::optional<CameraIntrinsics>& k,
+                                         const Eigen::Vector3f& centre, float radius_m,
+                                         std::vector<int>* indices) {
+  int u0 = 0, u1 = int(scene.width) - 1, v0 = 0, v1 = int(scene.height) - 1;
+  const float near_z = centre.z() - radius_m;
+  if (k && scene.height > 1 && near_z > 0.05f) {
+    const float u = float(k->fx) * centre.x() / centre.z() + float(k->cx);
+    const float v = float(k->fy) * centre.y() / centre.z() + float(k->cy);
+    const float half = float(std::max(k->fx, k->fy)) * radius_m / near_z + 1;
+    u0 = std::max(u0, int(std::floor(u - half)));
+    u1 = std::min(u1, int(std::ceil(u + half)));
+    v0 = std::max(v0, int(std::floor(v - half)));
+    v1 = std::min(v1, int(std::ceil(v + half)));
+  }
+  pcl::PointCloud<pcl::PointXYZ>::Ptr out(new pcl::PointCloud<pcl::PointXYZ>);
+  const float r2 = radius_m * radius_m;
+  for (int v = v0; v <= v1; ++v)
+    for (int u = u0; u <= u1; ++u) {
+      const int i = v * int(scene.width) + u;
+      const Eigen::Vector3f p = scene[i].getVector3fMap();
+      if (!p.allFinite() || (p - centre).squaredNorm() > r2) continue;
+      out->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+      indices->push_back(i);
+    }
+  return out;
+}
+
+struct Check {
+  Eigen::Matrix4f pose;
+  int inliers = 0, against = 0;
+  float thickness = 0;  // of the inlying model points: sqrt of their least covariance eigenvalue
+  std::vector<int> explained;  // scene points nearest the inlying model points
+};
+
+// A coarse colour histogram: rg chromaticity (5 x 5) by brightness (3), normalized.
+using ColourHistogram = std::array<float, 75>;
+
+void AddColour(const PointT& p, ColourHistogram* h) {
+  const float sum = float(p.r) + float(p.g) + float(p.b);
+  if (sum <= 0) return;
+  const int r = std::min(4, int(5 * p.r / sum)), g = std::min(4, int(5 * p.g / sum));
+  const int i = std::min(2, int(3 * sum / 766));
+  (*h)[(i * 5 + g) * 5 + r] += 1;
+}
+
+void Normalize(ColourHistogram* h) {
+  float total = 0;
+  for (float v : *h) total += v;
+  if (total > 0)
+    for (float& v : *h) v /= total;
+}
+
+float Intersection(const ColourHistogram& a, const ColourHistogram& b) {
+  float s = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += std::min(a[i], b[i]);
+  return s;
+}
+
+// The spread of points along their least-spread direction (0 when planar or too few).
+float Thickness(const std::vector<Eigen::Vector3f>& points) {
+  if (points.size() < 4) return 0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : points) mean += p.cast<double>();
+  mean /= double(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : points) {
+    const Eigen::Vector3d d = p.cast<double>() - mean;
+    cov += d * d.transpose();
+  }
+  cov /= double(points.size());
+  return float(std::sqrt(
+      std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
+                        .eigenvalues()[0])));
+}
+
+// ICP from `pose`, then counts model points on the surface and against the hypothesis (in front
+// of the seen surface, or sunk just behind it while facing the camera).
+Check Refine(const VerificationModel& model, const Cloud& scene,
+             const std::optional<CameraIntrinsics>& k, const Eigen::Matrix4f& pose,
+             const VerificationOptions& o) {
+  Check c;
+  c.pose = pose;
+  const Eigen::Vector3f centre = (pose * model.centre.homogeneous()).head<3>();
+  std::vector<int> crop_index;
+  const auto crop =
+      Crop(scene, k, centre, model.radius_m + o.icp_max_distance_m + 0.01f, &crop_index);
+  if (crop->size() < 10) return c;
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
+  tree.setInputCloud(crop);
+  std::vector<int> nn(1);
+  std::vector<float> d2(1);
+  const auto nearest = [&](const Eigen::Vector3f& p) {
+    tree.nearestKSearch(pcl::PointXYZ(p.x(), p.y(), p.z()), 1, nn, d2);
+    return std::pair<int, float>(nn[0], d2[0]);
+  };
+  const std::size_t n_points = model.points.size();
+  Eigen::Matrix3Xd src(3, n_points), dst(3, n_points);
+  for (int it = 0; it < o.icp_iterations; ++it) {
+    const float t = o.icp_iterations > 1 ? float(it) / float(o.icp_iterations - 1) : 1.0f;
+    const float max_d = o.icp_max_distance_m * (1 - t) + 2 * o.inlier_distance_m * t;
+    int n = 0;
+    for (const PointT& m : model.points) {
+      const Eigen::Vector3f p = (c.pose * m.getVector3fMap().homogeneous()).head<3>();
+      const auto [j, dist2] = nearest(p);
+      if (dist2 > max_d * max_d) continue;
+      src.col(n) = p.cast<double>();
+      dst.col(n) = (*crop)[j].getVector3fMap().cast<double>();
+      ++n;
+    }
+    if (n < 10) break;
+    // In double: GCC 12 sees a false out-of-bounds read in Eigen's float umeyama.
+    const Eigen::Matrix4f step =
+        Eigen::umeyama(src.leftCols(n), dst.leftCols(n), false).cast<float>();
+    c.pose = step * c.pose;
+    if ((step.topRightCorner<3, 1>().norm() < 1e-4f) &&
+        (step.topLeftCorner<3, 3>() - Eigen::Matrix3f::Identity()).norm() < 1e-4f)
+      break;
+  }
+  const float tolerance = 2 * o.inlier_distance_m;
+  std::vector<Eigen::Vector3f> on_surface;
+  const Eigen::Matrix3f R = c.pose.topLeftCorner<3, 3>();
+  for (std::size_t m = 0; m < n_points; ++m) {
+    const Eigen::Vector3f p = (c.pose * model.points[m].getVector3fMap().homogeneous()).head<3>();
+    const auto [j, dist2] = nearest(p);
+    if (dist2 <= o.inlier_distance_m * o.inlier_distance_m) {
+      ++c.inliers;
+      on_surface.push_back(model.points[m].getVector3fMap());
+      c.explained.push_back(crop_index[j]);
+      continue;
+    }
+    if (!k || scene.height <= 1 || p.z() <= 0) continue;
+    const int u = int(std::lround(k->fx * p.x() / p.z() + k->cx));
+    const int v = int(std::lround(k->fy * p.y() / p.z() + k->cy));
+    if (u < 0 || v < 0 || u >= int(scene.width) || v >= int(scene.height)) continue;
+    const float seen = scene.at(u, v).z;
+    if (!std::isfinite(seen)) continue;
+    if (p.z() < seen - tolerance) {
+      ++c.against;  // it would hide what the sensor saw
+    } else if (p.z() > seen + tolerance && p.z() < seen + o.max_sink_m) {
+      const Eigen::Vector3f n = R * model.normals[m];
+      if (n.allFinite() && n.dot(p.normalized()) < -0.3f) ++c.against;  // facing us, sunk
+    }
+  }
+  c.thickness = Thickness(on_surface);
+  return c;
+}
+
+}  // namespace
+
+VerificationModel MakeVerificationModel(const Cloud& model,
+                                        const std::vector<Eigen::Vector3f>& normals,
+                                        int max_points) {
+  VerificationModel out;
+  std::vector<int> finite;
+  for (int i = 0; i < int(model.size()); ++i)
+    if (model[i].getVector3fMap().allFinite()) finite.push_back(i);
+  if (finite.empty()) return out;
+  const double step = std::max(1.0, double(finite.size()) / std::max(1, max_points));
+  for (double k = 0; k < double(finite.size()); k += step) {
+    out.points.push_back(model[finite[int(k)]]);
+    out.normals.push_back(normals[finite[int(k)]]);
+  }
+  Eigen::Vector3f lo = model[finite[0]].getVector3fMap(), hi = lo;
+  for (int i : finite) {
+    lo = lo.cwiseMin(model[i].getVector3fMap());
+    hi = hi.cwiseMax(model[i].getVector3fMap());
+  }
+  out.centre = (lo + hi) / 2;
+  out.radius_m = (hi - lo).norm() / 2;
+  out.coloured = HasColour(model);
+  std::vector<Eigen::Vector3f> all;
+  for (const PointT& p : out.points) all.push_back(p.getVector3fMap());
+  out.thickness_m = Thickness(all);
+  return out;
+}
+
+std::vector<Detection> VerifyInstances(const VerificationModel& model,
+                                       const Eigen::Vector3f& vote_point, const Cloud& scene,
+                                       const std::optional<CameraIntrinsics>& intrinsics,
+                                       std::vector<Detection> instances,
+                                       const VerificationOptions& options,
+                                       const ParallelFor& parallel_for) {
+  if (model.points.empty() || instances.empty()) return {};
+  const bool colour = options.min_colour_agreement > 0 && model.coloured && HasColour(scene);
+  if (int(instances.size()) > options.max_candidates) instances.resize(options.max_candidates);
+  std::vector<Check> checks(instances.size());
+  parallel_for(instances.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      checks[i] = Refine(model, scene, intrinsics, instances[i].model_to_scene, options);
+  });
+  ColourHistogram model_colour{};
+  if (colour) {
+    for (const PointT& p : model.points) AddColour(p, &model_colour);
+    Normalize(&model_colour);
+  }
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < instances.size(); ++i) {
+    const Check& c = checks[i];
+    Detection& d = instances[i];
+    d.fitness = c.inliers ? float(c.inliers) / float(c.inliers + c.against) : 0.0f;
+    d.coverage = float(c.inliers) / float(model.points.size());
+    if (d.fitness < options.min_fitness || d.coverage < options.min_coverage) continue;
+    if (c.thickness < options.min_depth_ratio * model.thickness_m) continue;
+    if (colour) {
+      ColourHistogram seen{};
+      for (int j : c.explained) AddColour(scene[j], &seen);
+      Normalize(&seen);
+      d.colour_agreement = Intersection(model_colour, seen);
+      if (d.colour_agreement < options.min_colour_agreement) continue;
+    }
+    d.model_to_scene = c.pose;
+    d.centroid_m = (c.pose * vote_point.homogeneous()).head<3>();
+    order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return instances[a].coverage * instances[a].fitness >
+           instances[b].coverage * instances[b].fitness;
+  });
+  // Best first, and two instances cannot be one object: an instance that mostly re-explains
+  // scene points a better one took, or whose body would overlap a better one's (centres closer
+  // than the model's half diagonal), is the model slid along the object or onto its neighbour.
+  std::vector<std::uint8_t> taken(scene.size(), 0);
+  std::vector<Detection> out;
+  std::vector<Eigen::Vector3f> centres;
+  for (std::size_t i : order) {
+    const Check& c = checks[i];
+    const Eigen::Vector3f centre = (c.pose * model.centre.homogeneous()).head<3>();
+    if (std::any_of(centres.begin(), centres.end(),
+                    [&](const Eigen::Vector3f& o) { return (o - centre).norm() < model.radius_m; }))
+      continue;
+    int fresh = 0;
+    for (int j : c.explained) fresh += !taken[j];
+    if (float(fresh) < options.min_coverage * float(model.points.size()) || fresh < c.inliers / 2)
+      continue;
+    for (int j : c.explained) taken[j] = 1;
+    centres.push_back(centre);
+    out.push_back(std::move(instances[i]));
+  }
+  return out;
+}
+
+}  // namespace saccade

@@ -1,0 +1,71 @@
+// Hypothesis verification: each instance from grouping is refined by ICP against the scene near
+// it and kept only when the model, so placed, explains what the sensor saw: enough of its points
+// lie on the scene's surface, few would stand in front of surface the sensor saw through them,
+// and (optionally) their colours agree.
+#pragma once
+
+#include "core/parallel.h"
+#include "core/types.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace saccade {
+
+struct VerificationOptions {
+  bool enabled = true;
+  int max_candidates = 8;            // instances verified, most votes first; the rest are dropped
+  int model_points = 600;            // model points used (an even subset)
+  int icp_iterations = 12;           // ICP steps (point to point) per candidate
+  float icp_max_distance_m = 0.03f;  // pairs farther apart are ignored by ICP's first step
+  float inlier_distance_m = 0.008f;  // a model point this near the scene lies on its surface
+  /// Kept when inliers / (inliers + points in front of seen surface) reaches this.
+  float min_fitness = 0.6f;
+  /// ...and inliers / model points used reaches this (the share of the model found).
+  float min_coverage = 0.15f;
+  /// ...and the model points on the surface are not flatter than this share of the model's
+  /// thickness: a model laid into the table fits its flat parts to the table and nothing else.
+  float min_depth_ratio = 0.35f;
+  /// Colour check (when both clouds have colour): the colour histograms (rg chromaticity by
+  /// brightness) of the model and of the scene points it explains must intersect by at least
+  /// this much. 0: off.
+  float min_colour_agreement = 0.7f;
+  /// A camera-facing model point this far or less behind the seen surface is sunk into it.
+  float max_sink_m = 0.05f;
+
+  bool IsValid(std::string* error) const;
+};
+
+/// What verification needs of the model, prepared once: an even subset of its points with their
+/// normals (model frame; normals face the sensor that captured the model), and its bounds.
+struct VerificationModel {
+  Cloud points;
+  std::vector<Eigen::Vector3f> normals;
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();  // of the bounding box
+  float radius_m = 0;                                // half the bounding box's diagonal
+  bool coloured = false;
+  float thickness_m = 0;  // spread along the least-spread direction: 0 for a planar model
+};
+
+/// At most `max_points` of the model's finite points; `normals` are per model point (NaN where
+/// unknown).
+VerificationModel MakeVerificationModel(const Cloud& model,
+                                        const std::vector<Eigen::Vector3f>& normals,
+                                        int max_points);
+
+/// Refines and filters `instances` (poses of the model in `scene`), returning the kept ones,
+/// best first, each with its fitness, coverage and colour agreement set. With intrinsics (an
+/// organized scene) model points that face the camera and would stand in front of the seen
+/// surface, or just behind it (sunk into a surface rather than hidden by something), count
+/// against an instance; without them only distances to the scene count. `vote_point` (model
+/// frame) is where centroid_m is.
+std::vector<Detection> VerifyInstances(const VerificationModel& model,
+                                       const Eigen::Vector3f& vote_point, const Cloud& scene,
+                                       const std::optional<CameraIntrinsics>& intrinsics,
+                                       std::vector<Detection> instances,
+                                       const VerificationOptions& options,
+                                       const ParallelFor& parallel_for = SerialFor);
+
+}  // namespace saccade
