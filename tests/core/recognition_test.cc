@@ -225,5 +225,50 @@ TEST(DescribeModel, EmptyOrAllNaNModelIsAnError) {
   EXPECT_NE(error.find("no finite point"), std::string::npos);
 }
 
+TEST(VerifyInstances, KeepsTheTruePoseAndRejectsWrongOnes) {
+  SACCADE_REQUIRE_DATA(kScene);
+  SACCADE_REQUIRE_DATA(kMilkColor);
+  const Cloud scene = Load(kScene);
+  const auto model = Describe(kMilkColor);  // cut from this very scene: truth is the identity
+  ASSERT_TRUE(model);
+  const auto intrinsics = EstimateIntrinsics(scene);
+  ASSERT_TRUE(intrinsics);
+  // The truth nudged 1 cm (ICP must pull it back), and three wrong poses: the carton moved
+  // onto the carpet beside itself, turned upside down in place, and lifted 10 cm towards the
+  // camera (in front of what the sensor saw).
+  const Eigen::Vector3f c = model->centroid();
+  const auto about_centre = [&](const Eigen::Matrix3f& R, const Eigen::Vector3f& t) {
+    Eigen::Affine3f a = Eigen::Translation3f(c + t) * R * Eigen::Translation3f(-c);
+    Detection d;
+    d.model_to_scene = a.matrix();
+    d.votes = 10;
+    d.centroid_m = c + t;
+    return d;
+  };
+  const Eigen::Matrix3f I = Eigen::Matrix3f::Identity();
+  const Eigen::Matrix3f flip = Eigen::AngleAxisf(float(M_PI), Eigen::Vector3f::UnitZ()).matrix();
+  const std::vector<Detection> hypotheses = {
+      about_centre(I, {0.3f, 0, 0}), about_centre(flip, {0, 0, 0}), about_centre(I, {0, 0, -0.1f}),
+      about_centre(I, {0.01f, 0, 0})};
+  const std::vector<Detection> kept = VerifyInstances(model->verification(), c, scene, intrinsics,
+                                                      hypotheses, RecognitionOptions{}.verify);
+  ASSERT_EQ(kept.size(), 1u);
+  const PoseError e =
+      ComparePoses(kept[0].model_to_scene, Eigen::Matrix4f::Identity(), model->centroid());
+  EXPECT_LT(e.translation_m, 0.003);
+  EXPECT_LT(e.rotation_deg, 2.0);
+  EXPECT_GT(kept[0].fitness, 0.9f);
+  EXPECT_GT(kept[0].coverage, 0.8f);
+  EXPECT_GT(kept[0].colour_agreement, 0.7f);
+  // Without verification, the same four would all be kept.
+  RecognitionOptions off;
+  off.verify.min_fitness = off.verify.min_coverage = off.verify.min_depth_ratio = 0;
+  off.verify.min_colour_agreement = 0;
+  off.verify.icp_iterations = 0;
+  EXPECT_GE(
+      VerifyInstances(model->verification(), c, scene, intrinsics, hypotheses, off.verify).size(),
+      2u);
+}
+
 }  // namespace
 }  // namespace saccade

@@ -315,4 +315,50 @@ TEST(Cli, SegmentBadInputIsOneLineAndWritesNothing) {
   }
 }
 
+TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
+  SACCADE_REQUIRE_DATA("pcl_data/mOSD/test31.pcd");
+  SACCADE_REQUIRE_DATA("pcl_data/mOSD/test44.pcd");
+  SACCADE_REQUIRE_DATA("pcl_data/mOSD/test24.pcd");
+  // Two of configs/cross-capture-cases.yaml: the cookie tin and the Pringles can, each cut from
+  // one capture and searched in another.
+  const std::string cases = WriteFile("cases.yaml",
+                                      "cases:\n"
+                                      "  - name: tin-44-in-31\n"
+                                      "    model: {file: pcl_data/mOSD/test44.pcd, object: 2}\n"
+                                      "    scene: {file: pcl_data/mOSD/test31.pcd, object: 2}\n"
+                                      "  - name: pringles-31-in-24\n"
+                                      "    model: {file: pcl_data/mOSD/test31.pcd, object: 4}\n"
+                                      "    scene: {file: pcl_data/mOSD/test24.pcd, object: 2}\n");
+  const std::string loose =
+      "pipeline: plain, recognition: {scene_keypoint_radius_m: 0.01, scene_shot_radius_m: 0.04, "
+      "model_shot_radius_m: 0.04, scene_lrf_radius_m: 0.03, model_lrf_radius_m: 0.03, "
+      "hough_bin_m: 0.02";
+  const std::string configs = WriteFile("cases_configs.yaml",
+                                        "configurations:\n"
+                                        "  - {name: loosened, " +
+                                            loose +
+                                            ", verify: false}}\n"
+                                            "  - {name: verified, " +
+                                            loose + "}}\n");
+  const std::string out = ::testing::TempDir() + "cases_out";
+  const CliRun r = Saccade("eval --cases " + cases + " --data " + saccade::testing::DataPath("") +
+                           " --configs " + configs + " --out " + out + " --no-plots");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream table(out + "/table.csv");
+  std::string line;
+  std::getline(table, line);  // header
+  std::map<std::string, std::vector<std::string>> rows;
+  while (std::getline(table, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
+    rows[cells[0]] = cells;
+  }
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows["loosened"][3], "2");            // both found...
+  EXPECT_GT(std::stoi(rows["loosened"][4]), 20);  // ...among dozens of false instances
+  EXPECT_EQ(rows["verified"][3], "2") << r.out;   // verified: both found
+  EXPECT_EQ(rows["verified"][4], "0") << r.out;   // and nothing else
+}
+
 }  // namespace
