@@ -102,6 +102,21 @@ Eigen::Vector3f PcaNormal(const Eigen::Vector3f* points, int n, const Eigen::Vec
 
 }  // namespace
 
+PrincipalAxes ComputePrincipalAxes(const std::vector<Eigen::Vector3f>& points) {
+  PrincipalAxes out;
+  for (const auto& p : points) out.mean += p.cast<double>();
+  out.mean /= double(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : points) {
+    const Eigen::Vector3d d = p.cast<double>() - out.mean;
+    cov.noalias() += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov / double(points.size()));
+  out.variances = solver.eigenvalues();
+  out.axes = solver.eigenvectors();
+  return out;
+}
+
 std::unique_ptr<NeighborSearch> MakeOrganizedSearch(const Cloud& cloud,
                                                     const CameraIntrinsics& intrinsics,
                                                     const std::vector<std::uint8_t>& mask) {

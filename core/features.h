@@ -54,6 +54,16 @@ Normals OrganizedNormals(const Cloud& cloud, const CameraIntrinsics& intrinsics,
 /// towards the cloud's sensor_origin_ (where the sensor was, in the cloud's frame).
 Normals KnnNormals(const Cloud& cloud, const std::vector<std::uint8_t>& mask, int k_neighbors);
 
+/// Principal axes of a point set (PCA): the mean, and the covariance's eigenvalues (variances,
+/// ascending) with their unit eigenvectors (columns, same order).
+struct PrincipalAxes {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Vector3d variances = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+};
+/// Precondition: `points` is not empty.
+PrincipalAxes ComputePrincipalAxes(const std::vector<Eigen::Vector3f>& points);
+
 /// SHOT descriptors of a set of keypoints, with their local reference frames.
 struct Descriptors {
   std::vector<int> keypoint;         // index of each described keypoint in the cloud

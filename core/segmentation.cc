@@ -1,12 +1,11 @@
 #include "core/segmentation.h"
 
 #include "core/fail.h"
+#include "core/features.h"
 
 #include <pcl/common/io.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/segmentation/extract_clusters.h>
-
-#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -38,17 +37,12 @@ float Distance(const Eigen::Vector4f& plane, const Eigen::Vector3f& p) {
 
 // The least-squares plane through the points (normal = least-variance direction).
 Eigen::Vector4f FitPlane(const Cloud& cloud, const std::vector<int>& indices) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int i : indices) mean += At(cloud, i).cast<double>();
-  mean /= double(indices.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (int i : indices) {
-    const Eigen::Vector3d d = At(cloud, i).cast<double>() - mean;
-    cov += d * d.transpose();
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov);
-  const Eigen::Vector3d n = solver.eigenvectors().col(0);
-  return Eigen::Vector4f(float(n.x()), float(n.y()), float(n.z()), float(-n.dot(mean)));
+  std::vector<Eigen::Vector3f> points;
+  points.reserve(indices.size());
+  for (int i : indices) points.push_back(At(cloud, i));
+  const PrincipalAxes pca = ComputePrincipalAxes(points);
+  const Eigen::Vector3d n = pca.axes.col(0);
+  return Eigen::Vector4f(float(n.x()), float(n.y()), float(n.z()), float(-n.dot(pca.mean)));
 }
 
 std::vector<int> Inliers(const Cloud& cloud, const std::vector<int>& points,

@@ -1,10 +1,11 @@
 #include "core/verification.h"
 
 #include "core/fail.h"
+#include "core/features.h"
+#include "core/foveation.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -110,18 +111,7 @@ float Intersection(const ColourHistogram& a, const ColourHistogram& b) {
 // The spread of points along their least-spread direction (0 when planar or too few).
 float Thickness(const std::vector<Eigen::Vector3f>& points) {
   if (points.size() < 4) return 0;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& p : points) mean += p.cast<double>();
-  mean /= double(points.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& p : points) {
-    const Eigen::Vector3d d = p.cast<double>() - mean;
-    cov += d * d.transpose();
-  }
-  cov /= double(points.size());
-  return float(std::sqrt(
-      std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
-                        .eigenvalues()[0])));
+  return float(std::sqrt(std::max(0.0, ComputePrincipalAxes(points).variances[0])));
 }
 
 // ICP from `pose`, then counts model points on the surface and against the hypothesis (in front
@@ -211,13 +201,9 @@ VerificationModel MakeVerificationModel(const Cloud& model,
     out.points.push_back(model[finite[int(k)]]);
     out.normals.push_back(normals[finite[int(k)]]);
   }
-  Eigen::Vector3f lo = model[finite[0]].getVector3fMap(), hi = lo;
-  for (int i : finite) {
-    lo = lo.cwiseMin(model[i].getVector3fMap());
-    hi = hi.cwiseMax(model[i].getVector3fMap());
-  }
-  out.centre = (lo + hi) / 2;
-  out.radius_m = (hi - lo).norm() / 2;
+  const Box box = *BoundingBox(model);  // some point is finite
+  out.centre = (box.min + box.max) / 2;
+  out.radius_m = box.Size().norm() / 2;
   out.coloured = HasColour(model);
   std::vector<Eigen::Vector3f> all;
   for (const PointT& p : out.points) all.push_back(p.getVector3fMap());
@@ -270,7 +256,7 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
   // Best first, and two instances cannot be one object: an instance that mostly re-explains
   // scene points a better one took, or whose body would overlap a better one's (centres closer
   // than the model's half diagonal), is the model slid along the object or onto its neighbour.
-  std::vector<std::uint8_t> taken(scene.size(), 0);
+  std::vector<int> taken;  // sorted scene indices
   std::vector<Detection> out;
   std::vector<Eigen::Vector3f> centres;
   for (std::size_t i : order) {
@@ -280,10 +266,11 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
                     [&](const Eigen::Vector3f& o) { return (o - centre).norm() < model.radius_m; }))
       continue;
     int fresh = 0;
-    for (int j : c.explained) fresh += !taken[j];
+    for (int j : c.explained) fresh += !std::binary_search(taken.begin(), taken.end(), j);
     if (float(fresh) < options.min_coverage * float(model.points.size()) || fresh < c.inliers / 2)
       continue;
-    for (int j : c.explained) taken[j] = 1;
+    taken.insert(taken.end(), c.explained.begin(), c.explained.end());
+    std::sort(taken.begin(), taken.end());
     centres.push_back(centre);
     out.push_back(std::move(instances[i]));
   }

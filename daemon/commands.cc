@@ -64,18 +64,13 @@ void WriteMatrix(JsonWriter& j, const Eigen::Matrix4f& m) {
   j.EndArray();
 }
 
-void WriteVector(JsonWriter& j, const Eigen::Vector3f& v) {
-  j.BeginArray().Value(double(v.x())).Value(double(v.y())).Value(double(v.z())).EndArray();
-}
-
 std::string ResultJson(const RecognitionResult& r) {
   JsonWriter j;
   j.BeginObject().Key("instances").BeginArray();
   for (const Detection& d : r.instances) {
     j.BeginObject().Key("pose");
     WriteMatrix(j, d.model_to_scene);
-    j.Key("votes").Value(d.votes).Key("centroid");
-    WriteVector(j, d.centroid_m);
+    j.Key("votes").Value(d.votes).Key("centroid").Vector3(d.centroid_m);
     j.Key("fitness").Value(double(d.fitness)).Key("coverage").Value(double(d.coverage));
     j.Key("colour_agreement").Value(double(d.colour_agreement));
     j.EndObject();

@@ -24,7 +24,6 @@
 #include <map>
 #include <ostream>
 #include <sstream>
-#include <tuple>
 
 namespace saccade {
 namespace {
@@ -152,51 +151,136 @@ bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
                     std::string* error) {
   std::vector<LabelledCase> cases;
   if (!LoadLabelledCases(path, data_dir, &cases, error)) return false;
-  std::map<std::string, LabelledCloud> loaded;
-  const auto load = [&](const std::string& file) -> const LabelledCloud* {
+  if (cases.empty()) return Fail(error, path + ": no cases");
+  // Each capture is loaded once; cases searching the same capture share its cloud.
+  struct Capture {
+    std::shared_ptr<const Cloud> cloud;
+    std::vector<std::uint32_t> labels;
+    CameraIntrinsics intrinsics;
+  };
+  std::map<std::string, Capture> loaded;
+  const auto load = [&](const std::string& file) -> const Capture* {
     auto it = loaded.find(file);
     if (it == loaded.end()) {
-      auto cloud = LoadLabelledCloud(file, error);
-      if (!cloud) return nullptr;
-      it = loaded.emplace(file, std::move(*cloud)).first;
+      auto labelled = LoadLabelledCloud(file, error);
+      if (!labelled) return nullptr;
+      Capture c;
+      if (const auto k = EstimateIntrinsics(labelled->cloud)) c.intrinsics = *k;
+      c.cloud = std::make_shared<const Cloud>(std::move(labelled->cloud));
+      c.labels = std::move(labelled->labels);
+      it = loaded.emplace(file, std::move(c)).first;
     }
     return &it->second;
   };
-  // The object's finite points, by mOSD's labels (object k: 10k..10k+9).
-  const auto object = [](const LabelledCloud& c, int k) {
-    std::vector<int> out;
-    for (std::size_t i = 0; i < c.labels.size(); ++i)
-      if (int(c.labels[i] / 10) == k && c.labels[i] >= 10 &&
-          c.cloud[i].getVector3fMap().allFinite())
-        out.push_back(int(i));
-    return out;
+  // The finite points of object k (mOSD labels 10k..10k+9), as a cloud; an error when none.
+  const auto object = [&](const LabelledCase& c, const std::string& file, const Capture& capture,
+                          int k) -> std::optional<Cloud> {
+    std::vector<int> points;
+    for (std::size_t i = 0; i < capture.labels.size(); ++i)
+      if (capture.labels[i] >= 10 && int(capture.labels[i] / 10) == k &&
+          (*capture.cloud)[i].getVector3fMap().allFinite())
+        points.push_back(int(i));
+    if (points.empty()) {
+      Fail(error, path + ": case " + c.name + ": " + file + " has no object " + std::to_string(k));
+      return std::nullopt;
+    }
+    return ExtractPoints(*capture.cloud, points);
   };
   for (const LabelledCase& c : cases) {
-    const LabelledCloud* source = load(c.model_file);
-    const LabelledCloud* target = source ? load(c.scene_file) : nullptr;
+    const Capture* source = load(c.model_file);
+    const Capture* target = source ? load(c.scene_file) : nullptr;
     if (!target) return false;
-    const std::vector<int> model_points = object(*source, c.model_object);
-    const std::vector<int> truth_points = object(*target, c.scene_object);
-    for (const auto& [file, k, points] : {std::tuple<std::string, int, const std::vector<int>*>{
-                                              c.model_file, c.model_object, &model_points},
-                                          {c.scene_file, c.scene_object, &truth_points}})
-      if (points->empty())
-        return Fail(
-            error, path + ": case " + c.name + ": " + file + " has no object " + std::to_string(k));
-    EvalModel model;
-    model.cloud = ExtractPoints(source->cloud, model_points);
-    model.centre = *FiniteCentroid(model.cloud);
+    auto model = object(c, c.model_file, *source, c.model_object);
+    const auto truth = model ? object(c, c.scene_file, *target, c.scene_object) : std::nullopt;
+    if (!truth) return false;
     Scene s;
-    s.truth_m = *FiniteCentroid(ExtractPoints(target->cloud, truth_points));
-    s.frame.cloud = std::make_shared<const Cloud>(target->cloud);
-    if (const auto k = EstimateIntrinsics(target->cloud)) s.frame.intrinsics = *k;
+    s.truth_m = *FiniteCentroid(*truth);
+    s.frame.cloud = target->cloud;
+    s.frame.intrinsics = target->intrinsics;
     s.frame.sequence = scenes->size();
     s.model = models->size();
-    models->push_back(std::move(model));
+    const Eigen::Vector3f centre = *FiniteCentroid(*model);
+    models->push_back({std::move(*model), centre});
     scenes->push_back(std::move(s));
   }
-  if (cases.empty()) return Fail(error, path + ": no cases");
   return true;
+}
+
+// --model and --dataset (a folder, a source spec or one PCD file), every frame with its truth:
+// the generator's or recording's, or --truth-pose's; with a sphere radius, also the RANSAC
+// sphere fit's. nullopt when loaded, else the exit code (the message is written to `err`).
+std::optional<int> LoadDatasetScenes(const Args& args, std::optional<float> sphere_radius,
+                                     int max_frames, std::vector<EvalModel>* models,
+                                     std::vector<Scene>* scenes, std::ostream& err) {
+  std::string error;
+  const auto fail = [&](const std::string& message) {
+    err << "saccade eval: " << message << "\n";
+    return kExitFailure;
+  };
+  std::optional<Cloud> model = LoadModelCloud(args.Get("model"), &error);
+  if (!model) return fail(error);
+  std::optional<Eigen::Vector3f> model_centre = FiniteCentroid(*model);
+  if (!model_centre) return fail(args.Get("model") + ": the model has no valid point");
+  if (args.Has("model-centre")) {
+    model_centre = Args::ParseVector3(args.Get("model-centre"));
+    if (!model_centre)
+      return Usage(err, "eval", "--model-centre expects x,y,z in the model's frame");
+  }
+  models->push_back({std::move(*model), *model_centre});
+  // With --truth-pose, one pose (model to scene) is the truth of every frame: a single
+  // capture such as PCL's milk scene, whose pose file comes with it.
+  std::optional<Eigen::Vector3f> posed_truth;
+  if (args.Has("truth-pose")) {
+    const auto pose = LoadPose(args.Get("truth-pose"), &error);
+    if (!pose) return fail(error);
+    posed_truth = (*pose * model_centre->homogeneous()).head<3>();
+  }
+
+  const std::string dataset = args.Get("dataset");
+  std::error_code ec;
+  SphereFitOptions sphere_options;
+  if (sphere_radius) {
+    sphere_options.min_radius_m = *sphere_radius * 0.75f;
+    sphere_options.max_radius_m = *sphere_radius * 1.25f;
+  }
+  const auto add_scene = [&](Scene s) {
+    if (posed_truth) {
+      s.truth_m = *posed_truth;
+    } else if (s.frame.truth) {
+      s.truth_m = s.frame.truth->centroid_m;
+    } else {
+      error = dataset + ": frame " + std::to_string(s.frame.sequence) +
+              " has no ground truth (truth.csv beside the frames, or --truth-pose)";
+      return false;
+    }
+    if (sphere_radius) {
+      if (const auto sphere = FitSphere(*s.frame.cloud, sphere_options))
+        s.sphere_truth_m = sphere->centre_m;
+    }
+    scenes->push_back(std::move(s));
+    return true;
+  };
+  if (fs::is_regular_file(dataset, ec)) {
+    std::optional<Cloud> cloud = LoadCloud(dataset, &error);
+    if (!cloud) return fail(error);
+    Scene s;
+    if (const auto k = EstimateIntrinsics(*cloud)) s.frame.intrinsics = *k;
+    s.frame.cloud = std::make_shared<const Cloud>(std::move(*cloud));
+    if (!add_scene(std::move(s))) return fail(error);
+  } else {
+    if (dataset.find(':') == std::string::npos && !fs::is_directory(dataset, ec))
+      return fail(dataset + ": not a folder, a PCD file or a source spec");
+    auto source = OpenSource(DatasetSpec(dataset), &error);
+    if (!source) return fail(error);
+    while (static_cast<int>(scenes->size()) < max_frames) {
+      Scene s;
+      const auto status = source->Next(&s.frame, &error);
+      if (status == FrameSource::Status::kEnd) break;
+      if (status == FrameSource::Status::kError || !add_scene(std::move(s))) return fail(error);
+    }
+  }
+  if (scenes->empty()) return fail(dataset + ": no frames");
+  return std::nullopt;
 }
 
 }  // namespace
@@ -212,9 +296,10 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   const bool cases = args.Has("cases");
   if (cases && (args.Has("dataset") || args.Has("model")))
     return Usage(err, "eval", "--cases brings its own models and scenes: no --dataset or --model");
-  for (const char* required : {"dataset", "model", "configs"})
-    if (!args.Has(required) && !(cases && std::string(required) != "configs"))
-      return Usage(err, "eval", std::string("missing --") + required);
+  for (const char* required : {"configs", "dataset", "model"}) {
+    if (cases && std::string(required) != "configs") break;  // --cases brings the rest
+    if (!args.Has(required)) return Usage(err, "eval", std::string("missing --") + required);
+  }
   const auto fail = [&](const std::string& message) {
     err << "saccade eval: " << message << "\n";
     return kExitFailure;
@@ -250,75 +335,14 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
 
   std::vector<EvalModel> models;
   std::vector<Scene> scenes;
-  const std::string dataset = cases ? args.Get("cases") : args.Get("dataset");
   if (cases) {
-    if (!LoadCaseScenes(dataset, args.Get("data", "../shared/data"), &models, &scenes, &error))
+    if (!LoadCaseScenes(args.Get("cases"), args.Get("data", "../shared/data"), &models, &scenes,
+                        &error))
       return fail(error);
-  } else {
-    std::optional<Cloud> model = LoadModelCloud(args.Get("model"), &error);
-    if (!model) return fail(error);
-    std::optional<Eigen::Vector3f> model_centre = FiniteCentroid(*model);
-    if (!model_centre) return fail(args.Get("model") + ": the model has no valid point");
-    if (args.Has("model-centre")) {
-      model_centre = Args::ParseVector3(args.Get("model-centre"));
-      if (!model_centre)
-        return Usage(err, "eval", "--model-centre expects x,y,z in the model's frame");
-    }
-    models.push_back({std::move(*model), *model_centre});
-    // With --truth-pose, one pose (model to scene) is the truth of every frame: a single
-    // capture such as PCL's milk scene, whose pose file comes with it.
-    std::optional<Eigen::Vector3f> posed_truth;
-    if (args.Has("truth-pose")) {
-      const auto pose = LoadPose(args.Get("truth-pose"), &error);
-      if (!pose) return fail(error);
-      posed_truth = (*pose * model_centre->homogeneous()).head<3>();
-    }
-
-    // The dataset, every frame with its truth: a folder, a source spec, or one PCD file.
-    std::error_code ec;
-    SphereFitOptions sphere_options;
-    if (sphere_radius) {
-      sphere_options.min_radius_m = *sphere_radius * 0.75f;
-      sphere_options.max_radius_m = *sphere_radius * 1.25f;
-    }
-    const auto add_scene = [&](Scene s) {
-      if (posed_truth) {
-        s.truth_m = *posed_truth;
-      } else if (s.frame.truth) {
-        s.truth_m = s.frame.truth->centroid_m;
-      } else {
-        error = dataset + ": frame " + std::to_string(s.frame.sequence) +
-                " has no ground truth (truth.csv beside the frames, or --truth-pose)";
-        return false;
-      }
-      if (sphere_radius) {
-        if (const auto sphere = FitSphere(*s.frame.cloud, sphere_options))
-          s.sphere_truth_m = sphere->centre_m;
-      }
-      scenes.push_back(std::move(s));
-      return true;
-    };
-    if (fs::is_regular_file(dataset, ec)) {
-      std::optional<Cloud> cloud = LoadCloud(dataset, &error);
-      if (!cloud) return fail(error);
-      Scene s;
-      if (const auto k = EstimateIntrinsics(*cloud)) s.frame.intrinsics = *k;
-      s.frame.cloud = std::make_shared<const Cloud>(std::move(*cloud));
-      if (!add_scene(std::move(s))) return fail(error);
-    } else {
-      if (dataset.find(':') == std::string::npos && !fs::is_directory(dataset, ec))
-        return fail(dataset + ": not a folder, a PCD file or a source spec");
-      auto source = OpenSource(DatasetSpec(dataset), &error);
-      if (!source) return fail(error);
-      while (static_cast<int>(scenes.size()) < max_frames) {
-        Scene s;
-        const auto status = source->Next(&s.frame, &error);
-        if (status == FrameSource::Status::kEnd) break;
-        if (status == FrameSource::Status::kError || !add_scene(std::move(s))) return fail(error);
-      }
-    }
+  } else if (auto code =
+                 LoadDatasetScenes(args, sphere_radius, max_frames, &models, &scenes, err)) {
+    return *code;
   }
-  if (scenes.empty()) return fail(dataset + ": no frames");
 
   const fs::path dir = args.Get("out", "eval-out");
   std::error_code ec;

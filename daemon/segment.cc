@@ -12,10 +12,6 @@
 namespace saccade {
 namespace {
 
-void WriteVector(JsonWriter& j, const Eigen::Vector3f& v) {
-  j.BeginArray().Value(double(v.x())).Value(double(v.y())).Value(double(v.z())).EndArray();
-}
-
 std::string SegmentationJson(const Segmentation& s, std::size_t picked, const std::string& out) {
   JsonWriter j;
   j.BeginObject().Key("finite_points").Value(s.finite_points);
@@ -29,12 +25,9 @@ std::string SegmentationJson(const Segmentation& s, std::size_t picked, const st
   for (std::size_t i = 0; i < s.clusters.size(); ++i) {
     const Cluster& c = s.clusters[i];
     j.BeginObject().Key("index").Value(i).Key("points").Value(c.indices.size());
-    j.Key("centroid");
-    WriteVector(j, c.centroid_m);
-    j.Key("box_min");
-    WriteVector(j, c.box.min);
-    j.Key("box_max");
-    WriteVector(j, c.box.max);
+    j.Key("centroid").Vector3(c.centroid_m);
+    j.Key("box_min").Vector3(c.box.min);
+    j.Key("box_max").Vector3(c.box.max);
     j.EndObject();
   }
   j.EndArray().Key("picked").Value(picked).Key("out").Value(out).EndObject();
@@ -58,26 +51,40 @@ void PrintSegmentation(const Segmentation& s, std::size_t picked, const std::str
   os << "wrote cluster " << picked << " to " << out << "\n";
 }
 
-// --pick largest|nearest|N: the cluster to write, or nullopt with `error`.
-std::optional<std::size_t> Pick(const std::string& how, const Segmentation& s, std::string* error) {
-  if (how == "largest") return 0;
-  if (how == "nearest") {
-    std::size_t best = 0;
-    for (std::size_t i = 1; i < s.clusters.size(); ++i)
-      if (s.clusters[i].centroid_m.norm() < s.clusters[best].centroid_m.norm()) best = i;
-    return best;
+// --pick largest|nearest|N, parsed before any work is done.
+struct PickRule {
+  enum class Kind { kLargest, kNearest, kIndex } kind = Kind::kLargest;
+  std::size_t index = 0;
+};
+
+std::optional<PickRule> ParsePick(const std::string& text) {
+  if (text == "largest") return PickRule{PickRule::Kind::kLargest, 0};
+  if (text == "nearest") return PickRule{PickRule::Kind::kNearest, 0};
+  const auto n = Args::ParseNumber(text);
+  if (!n || *n < 0 || *n != std::floor(*n)) return std::nullopt;
+  return PickRule{PickRule::Kind::kIndex, std::size_t(*n)};
+}
+
+// The cluster the rule picks (clusters come largest first), or nullopt with `error`.
+std::optional<std::size_t> Pick(const PickRule& rule, const Segmentation& s, std::string* error) {
+  switch (rule.kind) {
+    case PickRule::Kind::kLargest:
+      return 0;
+    case PickRule::Kind::kNearest: {
+      std::size_t best = 0;
+      for (std::size_t i = 1; i < s.clusters.size(); ++i)
+        if (s.clusters[i].centroid_m.norm() < s.clusters[best].centroid_m.norm()) best = i;
+      return best;
+    }
+    case PickRule::Kind::kIndex:
+      break;
   }
-  const auto n = Args::ParseNumber(how);
-  if (!n || *n < 0 || *n != std::floor(*n)) {
-    *error = "--pick expects largest, nearest or a cluster index, got '" + how + "'";
+  if (rule.index >= s.clusters.size()) {
+    *error = "--pick " + std::to_string(rule.index) + ": only " +
+             std::to_string(s.clusters.size()) + " cluster(s) found (indices from 0)";
     return std::nullopt;
   }
-  if (*n >= double(s.clusters.size())) {
-    *error = "--pick " + how + ": only " + std::to_string(s.clusters.size()) +
-             " cluster(s) found (indices from 0)";
-    return std::nullopt;
-  }
-  return std::size_t(*n);
+  return rule.index;
 }
 
 }  // namespace
@@ -113,6 +120,11 @@ int RunSegment(const std::vector<std::string>& argv, std::ostream& out, std::ost
     options.seed = static_cast<std::uint32_t>(*v);
   }
   if (!options.IsValid(&error)) return Usage(err, "segment", error);
+  const auto rule = ParsePick(args.Get("pick", "largest"));
+  if (!rule)
+    return Usage(
+        err, "segment",
+        "--pick expects largest, nearest or a cluster index, got '" + args.Get("pick") + "'");
 
   const std::string scene_path = args.Get("scene"), out_path = args.Get("out");
   const auto scene = LoadCloud(scene_path, &error);
@@ -125,7 +137,7 @@ int RunSegment(const std::vector<std::string>& argv, std::ostream& out, std::ost
     err << "saccade segment: " << scene_path << ": " << error << "\n";
     return kExitFailure;
   }
-  const auto picked = Pick(args.Get("pick", "largest"), segmentation, &error);
+  const auto picked = Pick(*rule, segmentation, &error);
   if (!picked) {
     err << "saccade segment: " << scene_path << ": " << error << "\n";
     return kExitFailure;

@@ -4,7 +4,6 @@
 
 #include <functional>
 #include <map>
-#include <tuple>
 
 namespace saccade {
 namespace {
@@ -346,101 +345,112 @@ bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, s
   return true;
 }
 
-bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& base,
-                            std::vector<EvalConfiguration>* out, std::string* error) {
+namespace {
+
+// A file holding one key, `list`, whose value is a list of mappings: calls `entry` with each
+// mapping, its index and its name for errors ("list[3]"), stopping at the first false.
+bool ForEachListEntry(
+    const std::string& path, const std::string& list_key,
+    const std::function<bool(const YAML::Node&, std::size_t, const std::string&)>& entry,
+    std::string* error) {
   YAML::Node root;
   if (!LoadRoot(path, &root, error)) return false;
-  if (root.IsNull() || !root["configurations"] || !root["configurations"].IsSequence() ||
-      root.size() != 1) {
-    *error = path + ": expected exactly one key, 'configurations', holding a list";
+  if (root.IsNull() || !root[list_key] || !root[list_key].IsSequence() || root.size() != 1) {
+    *error = path + ": expected exactly one key, '" + list_key + "', holding a list";
     return false;
   }
-  out->clear();
-  const YAML::Node list = root["configurations"];
+  const YAML::Node list = root[list_key];
   for (std::size_t i = 0; i < list.size(); ++i) {
-    const std::string entry = "configurations[" + std::to_string(i) + "]";
+    const std::string name = list_key + "[" + std::to_string(i) + "]";
     if (!list[i].IsMap()) {
-      *error = path + ": key '" + entry + "': expected a mapping";
+      *error = path + ": key '" + name + "': expected a mapping";
       return false;
     }
-    EvalConfiguration c;
-    c.config = base;
-    c.name = std::to_string(i);
-    const ConfigKeys recognition = RecognitionKeys(&c.config.recognition);
-    const ConfigKeys fovea = FoveaKeys(&c.config.fovea);
-    const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)},
-                                               {"pipeline", Scalar(&c.pipeline)}};
-    for (const auto& kv : list[i]) {
-      const std::string key = kv.first.as<std::string>();
-      const std::string qualified = entry + "." + key;
-      bool ok = true;
-      if (key == "recognition") {
-        ok = ApplySection(kv.second, qualified, recognition.setters, path, error);
-      } else if (key == "fovea") {
-        ok = ApplySection(kv.second, qualified, fovea.setters, path, error);
-      } else {
-        ok = ApplyKey(top, key, qualified, kv.second, path, error);
-      }
-      if (!ok) return false;
-    }
-    std::string why;
-    if (c.pipeline != "foveated" && c.pipeline != "plain" && c.pipeline != "stock") {
-      *error = path + ": key '" + entry + ".pipeline': expected foveated | plain | stock";
-      return false;
-    }
-    if (!c.config.recognition.IsValid(&why) || !c.config.fovea.IsValid(&why)) {
-      *error = path + ": " + entry + " (" + c.name + "): " + why;
-      return false;
-    }
-    out->push_back(std::move(c));
+    if (!entry(list[i], i, name)) return false;
   }
   return true;
 }
 
+}  // namespace
+
+bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& base,
+                            std::vector<EvalConfiguration>* out, std::string* error) {
+  out->clear();
+  return ForEachListEntry(
+      path, "configurations",
+      [&](const YAML::Node& node, std::size_t i, const std::string& entry) {
+        EvalConfiguration c;
+        c.config = base;
+        c.name = std::to_string(i);
+        const ConfigKeys recognition = RecognitionKeys(&c.config.recognition);
+        const ConfigKeys fovea = FoveaKeys(&c.config.fovea);
+        const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)},
+                                                   {"pipeline", Scalar(&c.pipeline)}};
+        for (const auto& kv : node) {
+          const std::string key = kv.first.as<std::string>();
+          const std::string qualified = entry + "." + key;
+          bool ok = true;
+          if (key == "recognition") {
+            ok = ApplySection(kv.second, qualified, recognition.setters, path, error);
+          } else if (key == "fovea") {
+            ok = ApplySection(kv.second, qualified, fovea.setters, path, error);
+          } else {
+            ok = ApplyKey(top, key, qualified, kv.second, path, error);
+          }
+          if (!ok) return false;
+        }
+        std::string why;
+        if (c.pipeline != "foveated" && c.pipeline != "plain" && c.pipeline != "stock") {
+          *error = path + ": key '" + entry + ".pipeline': expected foveated | plain | stock";
+          return false;
+        }
+        if (!c.config.recognition.IsValid(&why) || !c.config.fovea.IsValid(&why)) {
+          *error = path + ": " + entry + " (" + c.name + "): " + why;
+          return false;
+        }
+        out->push_back(std::move(c));
+        return true;
+      },
+      error);
+}
+
 bool LoadLabelledCases(const std::string& path, const std::string& data_dir,
                        std::vector<LabelledCase>* out, std::string* error) {
-  YAML::Node root;
-  if (!LoadRoot(path, &root, error)) return false;
-  if (root.IsNull() || !root["cases"] || !root["cases"].IsSequence() || root.size() != 1) {
-    *error = path + ": expected exactly one key, 'cases', holding a list";
-    return false;
-  }
   out->clear();
-  const YAML::Node list = root["cases"];
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    const std::string entry = "cases[" + std::to_string(i) + "]";
-    if (!list[i].IsMap()) {
-      *error = path + ": key '" + entry + "': expected a mapping";
-      return false;
-    }
-    LabelledCase c;
-    const std::map<std::string, Setter> capture_model = {{"file", Scalar(&c.model_file)},
-                                                         {"object", Scalar(&c.model_object)}};
-    const std::map<std::string, Setter> capture_scene = {{"file", Scalar(&c.scene_file)},
-                                                         {"object", Scalar(&c.scene_object)}};
-    const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)}};
-    for (const auto& kv : list[i]) {
-      const std::string key = kv.first.as<std::string>();
-      const std::string qualified = entry + "." + key;
-      const bool ok =
-          key == "model"   ? ApplySection(kv.second, qualified, capture_model, path, error)
-          : key == "scene" ? ApplySection(kv.second, qualified, capture_scene, path, error)
-                           : ApplyKey(top, key, qualified, kv.second, path, error);
-      if (!ok) return false;
-    }
-    for (const auto& [what, file, object] :
-         {std::tuple<const char*, std::string*, int>{"model", &c.model_file, c.model_object},
-          {"scene", &c.scene_file, c.scene_object}}) {
-      if (file->empty() || object < 1) {
-        *error = path + ": key '" + entry + "." + what + "': needs a file and an object >= 1";
-        return false;
-      }
-      if ((*file)[0] != '/') *file = data_dir + "/" + *file;
-    }
-    if (c.name.empty()) c.name = std::to_string(i);
-    out->push_back(std::move(c));
-  }
-  return true;
+  return ForEachListEntry(
+      path, "cases",
+      [&](const YAML::Node& node, std::size_t i, const std::string& entry) {
+        LabelledCase c;
+        const std::map<std::string, Setter> capture_model = {{"file", Scalar(&c.model_file)},
+                                                             {"object", Scalar(&c.model_object)}};
+        const std::map<std::string, Setter> capture_scene = {{"file", Scalar(&c.scene_file)},
+                                                             {"object", Scalar(&c.scene_object)}};
+        const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)}};
+        for (const auto& kv : node) {
+          const std::string key = kv.first.as<std::string>();
+          const std::string qualified = entry + "." + key;
+          const bool ok =
+              key == "model"   ? ApplySection(kv.second, qualified, capture_model, path, error)
+              : key == "scene" ? ApplySection(kv.second, qualified, capture_scene, path, error)
+                               : ApplyKey(top, key, qualified, kv.second, path, error);
+          if (!ok) return false;
+        }
+        const auto check = [&](const char* what, std::string* file, int object) {
+          if (file->empty() || object < 1) {
+            *error = path + ": key '" + entry + "." + what + "': needs a file and an object >= 1";
+            return false;
+          }
+          if ((*file)[0] != '/') *file = data_dir + "/" + *file;
+          return true;
+        };
+        if (!check("model", &c.model_file, c.model_object) ||
+            !check("scene", &c.scene_file, c.scene_object))
+          return false;
+        if (c.name.empty()) c.name = std::to_string(i);
+        out->push_back(std::move(c));
+        return true;
+      },
+      error);
 }
 
 }  // namespace saccade

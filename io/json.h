@@ -47,6 +47,11 @@ class JsonWriter {
     String(v);
     return *this;
   }
+  /// [x, y, z] of any 3-vector indexable with [] (an Eigen vector, a std::array).
+  template <typename Vector>
+  JsonWriter& Vector3(const Vector& v) {
+    return BeginArray().Value(double(v[0])).Value(double(v[1])).Value(double(v[2])).EndArray();
+  }
   JsonWriter& Null() {
     Separate();
     out_ << "null";

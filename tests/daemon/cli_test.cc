@@ -292,7 +292,7 @@ TEST(Cli, SegmentBadInputIsOneLineAndWritesNothing) {
       {"--scene " + nan, "no finite point"},
       {"--scene /nonexistent/s.pcd", "/nonexistent/s.pcd: no such file"},
       {"--scene " + nan + " --plane-fraction 2", "plane_fraction"},
-      {"--scene " + nan + " --pick biggest", ""}};
+      {"--scene " + nan + " --pick biggest", "--pick expects largest, nearest or a cluster"}};
   for (const auto& [args, message] : cases) {
     const CliRun r = Saccade("segment " + args + " --out " + out);
     EXPECT_NE(r.code, 0) << args;
