@@ -20,8 +20,8 @@ bool Finite(const PointT& p) {
 class OrganizedSearch final : public NeighborSearch {
  public:
   OrganizedSearch(const Cloud& cloud, const CameraIntrinsics& k,
-                  const std::vector<std::uint8_t>& mask)
-      : cloud_(cloud), k_(k), mask_(mask) {}
+                  const std::vector<std::uint8_t>& mask, int max_half_window_px)
+      : cloud_(cloud), k_(k), mask_(mask), max_half_(max_half_window_px) {}
 
   void Radius(int query, float r, std::vector<int>* indices,
               std::vector<float>* sqr_dists) const override {
@@ -33,11 +33,20 @@ class OrganizedSearch final : public NeighborSearch {
     const float z_near = std::max(q.z() - r, 0.05f);
     const int hu = static_cast<int>(std::ceil(r * k_.fx / z_near)) + 1;
     const int hv = static_cast<int>(std::ceil(r * k_.fy / z_near)) + 1;
+    // A window wider than the limit is sampled every `step` pixels (through the query's own
+    // pixel), so that the support holds about as many points as the limit's window would.
+    const int step = max_half_ > 0 ? (std::max(hu, hv) + max_half_ - 1) / max_half_ : 1;
     const int u0 = query % w, v0 = query / w;
+    // Window bounds: multiples of `step` from the query, clipped to the image.
+    const auto lo = [step](int at, int half) { return at - std::min(half, at) / step * step; };
+    const auto hi = [step](int at, int half, int size) {
+      return at + std::min(half, size - 1 - at) / step * step;
+    };
+    const int u_lo = lo(u0, hu), u_hi = hi(u0, hu, w), v_hi = hi(v0, hv, h);
     const float r2 = r * r;
-    for (int v = std::max(0, v0 - hv), v_end = std::min(h - 1, v0 + hv); v <= v_end; ++v) {
+    for (int v = lo(v0, hv); v <= v_hi; v += step) {
       const int row = v * w;
-      for (int u = std::max(0, u0 - hu), u_end = std::min(w - 1, u0 + hu); u <= u_end; ++u) {
+      for (int u = u_lo; u <= u_hi; u += step) {
         const int i = row + u;
         if (!mask_[i]) continue;
         const float d2 = (cloud_[i].getVector3fMap() - q).squaredNorm();
@@ -53,6 +62,7 @@ class OrganizedSearch final : public NeighborSearch {
   const Cloud& cloud_;
   const CameraIntrinsics k_;
   const std::vector<std::uint8_t>& mask_;
+  const int max_half_;  // 0: every pixel of the window
 };
 
 class KdTreeSearch final : public NeighborSearch {
@@ -119,8 +129,9 @@ PrincipalAxes ComputePrincipalAxes(const std::vector<Eigen::Vector3f>& points) {
 
 std::unique_ptr<NeighborSearch> MakeOrganizedSearch(const Cloud& cloud,
                                                     const CameraIntrinsics& intrinsics,
-                                                    const std::vector<std::uint8_t>& mask) {
-  return std::make_unique<OrganizedSearch>(cloud, intrinsics, mask);
+                                                    const std::vector<std::uint8_t>& mask,
+                                                    int max_half_window_px) {
+  return std::make_unique<OrganizedSearch>(cloud, intrinsics, mask, max_half_window_px);
 }
 
 std::unique_ptr<NeighborSearch> MakeKdTreeSearch(const Cloud& cloud,

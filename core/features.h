@@ -27,10 +27,13 @@ class NeighborSearch {
 
 /// Search on an organized (image-shaped) cloud: scans the pixel window that a sphere of the
 /// radius covers at the query's depth. Only points with mask[i] != 0 are surface points; the
-/// mask (size = cloud size) and cloud must outlive the search.
+/// mask (size = cloud size) and cloud must outlive the search. A window reaching farther than
+/// `max_half_window_px` from the query is sampled every few pixels, so that a wide support near
+/// the camera holds about as many points as one of that half-width (0: every pixel).
 std::unique_ptr<NeighborSearch> MakeOrganizedSearch(const Cloud& cloud,
                                                     const CameraIntrinsics& intrinsics,
-                                                    const std::vector<std::uint8_t>& mask);
+                                                    const std::vector<std::uint8_t>& mask,
+                                                    int max_half_window_px = 0);
 
 /// Search over the masked points of any cloud with a kd-tree (built here, once).
 std::unique_ptr<NeighborSearch> MakeKdTreeSearch(const Cloud& cloud,

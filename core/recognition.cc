@@ -2,6 +2,7 @@
 
 #include "core/fail.h"
 
+#include <pcl/kdtree/kdtree_flann.h>
 #include <flann/flann.hpp>
 
 #include <algorithm>
@@ -49,6 +50,7 @@ bool RecognitionOptions::IsValid(std::string* error) const {
   if (hough_threshold < 1) return Fail(error, "hough_threshold must be >= 1");
   if (match_branching < 2) return Fail(error, "match_branching must be >= 2");
   if (match_checks < 1) return Fail(error, "match_checks must be >= 1");
+  if (max_support_half_window_px < 0) return Fail(error, "max_support_half_window_px must be >= 0");
   return verify.IsValid(error);
 }
 
@@ -57,6 +59,40 @@ RecognitionOptions RecognitionOptions::CrossCapture() {
   o.scene_shot_radius_m = o.model_shot_radius_m = 0.04f;
   o.scene_lrf_radius_m = o.model_lrf_radius_m = 0.03f;
   o.hough_bin_m = 0.02f;
+  return o;
+}
+
+ModelScale MeasureModel(const Cloud& model) {
+  ModelScale scale;
+  pcl::PointCloud<pcl::PointXYZ>::Ptr points(new pcl::PointCloud<pcl::PointXYZ>);
+  for (const PointT& p : model.points)
+    if (FinitePoint(p)) points->push_back(pcl::PointXYZ(p.x, p.y, p.z));
+  if (points->size() < 2) return scale;
+  const Box box = *BoundingBox(model);
+  scale.size_m = box.Size().norm();
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
+  tree.setInputCloud(points);
+  // A sample of a few thousand points gives the median spacing of a model of any size.
+  const std::size_t step = std::max<std::size_t>(1, points->size() / 4000);
+  std::vector<float> nearest;
+  pcl::Indices nn(2);
+  std::vector<float> d2(2);
+  for (std::size_t i = 0; i < points->size(); i += step)
+    if (tree.nearestKSearch((*points)[i], 2, nn, d2) == 2) nearest.push_back(std::sqrt(d2[1]));
+  if (nearest.empty()) return scale;
+  std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
+  scale.spacing_m = nearest[nearest.size() / 2];
+  return scale;
+}
+
+RecognitionOptions FitRadii(const RecognitionOptions& base, const ModelScale& scale) {
+  RecognitionOptions o = base;
+  if (!(scale.size_m > 0)) return o;
+  const float shot = std::max(scale.size_m / 6, 8 * scale.spacing_m);
+  o.scene_shot_radius_m = o.model_shot_radius_m = shot;
+  o.scene_lrf_radius_m = o.model_lrf_radius_m = 0.75f * shot;
+  o.scene_keypoint_radius_m = o.model_keypoint_radius_m = std::max(shot / 4, scale.spacing_m);
+  o.hough_bin_m = o.pose_inlier_threshold_m = shot / 2;
   return o;
 }
 
@@ -96,9 +132,11 @@ std::optional<Eigen::Vector3f> FiniteCentroid(const Cloud& cloud) {
   return Eigen::Vector3f((sum / static_cast<double>(n)).cast<float>());
 }
 
-std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& options,
+std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& given,
                                               std::string* error) {
   ModelDescription out;
+  out.scale_ = MeasureModel(model);
+  const RecognitionOptions options = given.radii_from_model ? FitRadii(given, out.scale_) : given;
   // Only finite points make the model; its frame and units stay those of the file.
   for (const auto& p : model.points)
     if (FinitePoint(p)) out.cloud_.push_back(p);
@@ -296,8 +334,10 @@ std::size_t RecognitionStats::TotalKeypoints() const {
 }
 
 RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
-                            const SceneQuery& query, const RecognitionOptions& options,
+                            const SceneQuery& query, const RecognitionOptions& given,
                             const ParallelFor& parallel_for, std::string* error) {
+  const RecognitionOptions options =
+      given.radii_from_model ? FitRadii(given, model.scale()) : given;
   RecognitionResult result;
   auto& stats = result.stats;
   const auto t_total = Clock::now();
@@ -361,7 +401,8 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   // 4. SHOT and its local frame, on the kept points as the search surface.
   t = Clock::now();
   const auto search =
-      organized ? MakeOrganizedSearch(scene, *intrinsics, mask) : MakeKdTreeSearch(scene, mask);
+      organized ? MakeOrganizedSearch(scene, *intrinsics, mask, options.max_support_half_window_px)
+                : MakeKdTreeSearch(scene, mask);
   DescribeOptions describe;
   describe.shot_radius_m = options.scene_shot_radius_m;
   describe.lrf_radius_m = options.scene_lrf_radius_m;

@@ -37,6 +37,11 @@ struct RecognitionOptions {
   /// Levels coarser than this (by d_k) are not described: a SHOT support of a few points is
   /// noise (PERFORMANCE.md §2). Their points still count as surface for finer levels.
   float max_described_density_m = 0.01f;
+  /// On an organized scene, SHOT and LRF supports whose pixel window reaches farther than this
+  /// from the keypoint (wide radii, near the camera) are sampled every few pixels down to about
+  /// this window's point count: the histogram's shape is kept at a fraction of the cost. 0: use
+  /// every pixel.
+  int max_support_half_window_px = 0;
   /// Correspondences vote for where the model's centroid lies (paper Algorithm 5). With this
   /// set they vote for the model frame's origin instead: right for a model whose frame is
   /// centred on the object (a ball cut around its centre), where the centroid of the seen cap
@@ -49,6 +54,9 @@ struct RecognitionOptions {
   unsigned match_seed = 42;
   /// Hypothesis verification after grouping (ICP, surface and free-space checks, colour).
   VerificationOptions verify;
+  /// Replace the radii above (keypoints, SHOT, LRF, Hough bin, pose inliers) by ones fitted to
+  /// the model's size and point spacing (FitRadii), so a new object needs no hand tuning.
+  bool radii_from_model = false;
 
   bool IsValid(std::string* error) const;
 
@@ -57,6 +65,23 @@ struct RecognitionOptions {
   /// viewpoint) and a coarser Hough grid (the residual frame error); see docs/BENCHMARKS.md.
   static RecognitionOptions CrossCapture();
 };
+
+/// How big a model is and how finely it is sampled: what its radii must fit.
+struct ModelScale {
+  float size_m = 0;     // the diagonal of its bounding box
+  float spacing_m = 0;  // the median distance from a point to its nearest neighbour
+};
+
+/// The scale of the model's finite points; zeros when it has fewer than two.
+ModelScale MeasureModel(const Cloud& model);
+
+/// `base` with radii fitted to a model of `scale`: a SHOT support of a sixth of the model's size
+/// (enough of the object to be distinctive, little enough to survive occlusion and another
+/// viewpoint) but at least eight point spacings (a histogram needs points), an LRF radius of
+/// three quarters of it, model keypoints a quarter of it apart (scene keypoints of plain
+/// recognition too; the fovea's come from FoveaOptions), and a Hough bin and pose tolerance of
+/// half of it (the residual error of frames that wide). Other fields are kept.
+RecognitionOptions FitRadii(const RecognitionOptions& base, const ModelScale& scale);
 
 /// The model, described once: its keypoints, their frames and descriptors, and a search
 /// index over the descriptors. Immutable after DescribeModel; safe to share between threads.
@@ -73,6 +98,8 @@ class ModelDescription {
   const Eigen::Vector3f& centroid() const { return centroid_; }
   /// The model as hypothesis verification uses it.
   const VerificationModel& verification() const { return verification_; }
+  /// Its size and point spacing: with radii_from_model, Recognize fits its radii to these.
+  const ModelScale& scale() const { return scale_; }
 
   /// Nearest model descriptor of `shot` (kShotLength floats): index into descriptors() and
   /// squared distance.
@@ -86,6 +113,7 @@ class ModelDescription {
   Descriptors descriptors_;
   Eigen::Vector3f centroid_ = Eigen::Vector3f::Zero();
   VerificationModel verification_;
+  ModelScale scale_;
   struct Index;
   std::unique_ptr<Index> index_;
   int checks_ = 0;  // set from RecognitionOptions::match_checks by DescribeModel

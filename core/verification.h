@@ -18,6 +18,7 @@ struct VerificationOptions {
   bool enabled = true;
   int max_candidates = 8;            // instances verified, most votes first; the rest are dropped
   int model_points = 600;            // model points used (an even subset)
+  int icp_points = 200;              // of those, about this many are aligned by ICP
   int icp_iterations = 12;           // ICP steps (point to point) per candidate
   float icp_max_distance_m = 0.03f;  // pairs farther apart are ignored by ICP's first step
   float inlier_distance_m = 0.008f;  // a model point this near the scene lies on its surface
@@ -27,7 +28,8 @@ struct VerificationOptions {
   float min_coverage = 0.15f;
   /// ...and the model points on the surface are not flatter than this share of the model's
   /// thickness: a model laid into the table fits its flat parts to the table and nothing else.
-  float min_depth_ratio = 0.35f;
+  /// (0.35 lost a flat box seen from another side, whose visible part is thin at best.)
+  float min_depth_ratio = 0.3f;
   /// Colour check (when both clouds have colour): the colour histograms (rg chromaticity by
   /// brightness) of the model and of the scene points it explains must intersect by at least
   /// this much. 0: off.

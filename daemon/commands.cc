@@ -64,9 +64,27 @@ void WriteMatrix(JsonWriter& j, const Eigen::Matrix4f& m) {
   j.EndArray();
 }
 
-std::string ResultJson(const RecognitionResult& r) {
+// The radii a run used (fitted to the model with radii_from_model), by config key.
+std::vector<std::pair<const char*, float>> RadiiUsed(const ModelDescription& model,
+                                                     const RecognitionOptions& given) {
+  const RecognitionOptions o = given.radii_from_model ? FitRadii(given, model.scale()) : given;
+  return {{"model_keypoint_radius_m", o.model_keypoint_radius_m},
+          {"scene_keypoint_radius_m", o.scene_keypoint_radius_m},
+          {"shot_radius_m", o.scene_shot_radius_m},
+          {"lrf_radius_m", o.scene_lrf_radius_m},
+          {"hough_bin_m", o.hough_bin_m}};
+}
+
+std::string ResultJson(const RecognitionResult& r, const ModelDescription& model,
+                       const RecognitionOptions& options) {
   JsonWriter j;
-  j.BeginObject().Key("instances").BeginArray();
+  j.BeginObject().Key("model").BeginObject();
+  j.Key("size_m").Value(double(model.scale().size_m));
+  j.Key("spacing_m").Value(double(model.scale().spacing_m)).EndObject();
+  j.Key("radii").BeginObject();
+  for (const auto& [key, value] : RadiiUsed(model, options)) j.Key(key).Value(double(value));
+  j.EndObject();
+  j.Key("instances").BeginArray();
   for (const Detection& d : r.instances) {
     j.BeginObject().Key("pose");
     WriteMatrix(j, d.model_to_scene);
@@ -94,9 +112,13 @@ std::string ResultJson(const RecognitionResult& r) {
   return j.str();
 }
 
-void PrintResult(const RecognitionResult& r, std::ostream& out) {
+void PrintResult(const RecognitionResult& r, const ModelDescription& model,
+                 const RecognitionOptions& options, std::ostream& out) {
   out << std::fixed << std::setprecision(4);
-  out << r.instances.size() << " instance(s)\n";
+  out << "model: size " << model.scale().size_m << " m, point spacing " << model.scale().spacing_m
+      << " m; radii" << (options.radii_from_model ? " (fitted to the model)" : "") << ":";
+  for (const auto& [key, value] : RadiiUsed(model, options)) out << " " << key << " " << value;
+  out << "\n" << r.instances.size() << " instance(s)\n";
   for (std::size_t i = 0; i < r.instances.size(); ++i) {
     const Detection& d = r.instances[i];
     out << "instance " << i << ": votes " << d.votes << ", centroid (" << d.centroid_m.x() << ", "
@@ -168,9 +190,9 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
     return kExitFailure;
   }
   if (args.Has("json"))
-    out << ResultJson(result) << "\n";
+    out << ResultJson(result, *model, in.config.recognition) << "\n";
   else
-    PrintResult(result, out);
+    PrintResult(result, *model, in.config.recognition, out);
   return kExitOk;
 }
 

@@ -31,8 +31,10 @@ commands:
   eval      --dataset DIR|SPEC|FILE.pcd --model M --configs FILE.yaml [--out DIR]
             [--model-centre x,y,z] [--truth-pose POSE.txt] [--sphere-radius R]
             [--sweep NAME,...] [--reference NAME] [--frames N] [--no-plots]
-            run recognition configurations over frames with ground truth; write Table 7 style
-            tables (CSV, Markdown), TP/FP against the distance threshold, the fovea-distance
+  eval      --cases CASES.yaml [--data DIR] --configs FILE.yaml [--out DIR] [...]
+            run recognition configurations over frames with ground truth (or over labelled
+            cross-capture cases); write Table 7 style tables (CSV, Markdown), every trial's
+            counts and stage times, TP/FP against the distance threshold, the fovea-distance
             sweep, and their PNG plots (gnuplot)
   demo      [--seed N]
             render a synthetic Kinect scene and find in it a target modelled from another

@@ -203,6 +203,91 @@ TEST(HoughGroup, TooFewVotesGiveNoInstance) {
                   .empty());
 }
 
+// A flat rectangle of w x h metres sampled every `spacing` metres, with a few NaN points.
+Cloud Grid(float w, float h, float spacing) {
+  Cloud c;
+  for (float x = 0; x <= w + 1e-6f; x += spacing)
+    for (float y = 0; y <= h + 1e-6f; y += spacing) {
+      PointT p;
+      p.x = x, p.y = y, p.z = 1;
+      c.push_back(p);
+    }
+  for (std::size_t i = 0; i < c.size(); i += 50) c[i].z = NAN;
+  return c;
+}
+
+TEST(FitRadii, FollowTheModelsSizeAndPointSpacing) {
+  const ModelScale scale = MeasureModel(Grid(0.3f, 0.2f, 0.005f));
+  EXPECT_NEAR(scale.size_m, std::hypot(0.3f, 0.2f), 1e-4f);
+  EXPECT_NEAR(scale.spacing_m, 0.005f, 1e-4f);
+  const RecognitionOptions base;
+  const RecognitionOptions fitted = FitRadii(base, scale);
+  EXPECT_NEAR(fitted.model_shot_radius_m, scale.size_m / 6, 1e-5f);
+  EXPECT_EQ(fitted.scene_shot_radius_m, fitted.model_shot_radius_m);
+  EXPECT_NEAR(fitted.model_lrf_radius_m, 0.75f * fitted.model_shot_radius_m, 1e-5f);
+  EXPECT_NEAR(fitted.model_keypoint_radius_m, fitted.model_shot_radius_m / 4, 1e-5f);
+  EXPECT_NEAR(fitted.hough_bin_m, fitted.model_shot_radius_m / 2, 1e-5f);
+  EXPECT_TRUE(fitted.IsValid(nullptr));
+  EXPECT_EQ(fitted.hough_threshold, base.hough_threshold);  // only radii change
+
+  // Twice the object at half the density: every radius doubles.
+  const RecognitionOptions twice = FitRadii(base, MeasureModel(Grid(0.6f, 0.4f, 0.01f)));
+  EXPECT_NEAR(twice.model_shot_radius_m, 2 * fitted.model_shot_radius_m, 1e-4f);
+  EXPECT_NEAR(twice.hough_bin_m, 2 * fitted.hough_bin_m, 1e-4f);
+
+  // A small, sparse model: the support holds eight point spacings whatever its size.
+  const RecognitionOptions sparse = FitRadii(base, MeasureModel(Grid(0.06f, 0.04f, 0.004f)));
+  EXPECT_NEAR(sparse.model_shot_radius_m, 8 * 0.004f, 1e-4f);
+
+  // Nothing to measure: the radii stay as given.
+  const RecognitionOptions none = FitRadii(base, MeasureModel(Cloud{}));
+  EXPECT_EQ(none.model_shot_radius_m, base.model_shot_radius_m);
+}
+
+TEST(FitRadii, MilkCartonIsFoundWithRadiiFittedToItsModel) {
+  SACCADE_REQUIRE_DATA(kScene);
+  SACCADE_REQUIRE_DATA(kMilkModel);
+  std::string error;
+  const auto truth = LoadPose(testing::DataPath(kMilkPose), &error);
+  ASSERT_TRUE(truth) << error;
+  RecognitionOptions o;
+  o.radii_from_model = true;
+  const auto model = DescribeModel(Load(kMilkModel), o, &error);
+  ASSERT_TRUE(model) << error;
+  // Not Table 1's hand-picked 2 cm: a sixth of the carton's 32 cm diagonal.
+  EXPECT_NEAR(FitRadii(o, model->scale()).scene_shot_radius_m, 0.053f, 0.002f);
+  SceneQuery q;
+  q.fovea_m = kCartonCentre;
+  ExpectFoundAt(Recognize(*model, Load(kScene), q, o), *model, *truth);
+}
+
+TEST(OrganizedSearch, WideWindowsAreSampledNotCut) {
+  // A fronto-parallel plane one metre away, one point per pixel.
+  const CameraIntrinsics k{525, 525, 32, 32, 64, 64};
+  Cloud plane(64, 64);
+  for (int v = 0; v < 64; ++v)
+    for (int u = 0; u < 64; ++u) {
+      PointT& p = plane.at(u, v);
+      p.x = (u - 32) / 525.0f, p.y = (v - 32) / 525.0f, p.z = 1;
+    }
+  const std::vector<std::uint8_t> mask(plane.size(), 1);
+  const int query = 32 * 64 + 32;
+  const float radius = 0.04f;  // 21 pixels
+  std::vector<int> all, sampled;
+  std::vector<float> d_all, d_sampled;
+  MakeOrganizedSearch(plane, k, mask)->Radius(query, radius, &all, &d_all);
+  MakeOrganizedSearch(plane, k, mask, 8)->Radius(query, radius, &sampled, &d_sampled);
+  // Every pixel of the disc, or every third one (21 px / 8 rounds up to a step of 3).
+  EXPECT_NEAR(double(all.size()), M_PI * 21 * 21, 60);
+  EXPECT_NEAR(double(sampled.size()), double(all.size()) / 9, 15);
+  EXPECT_NE(std::find(sampled.begin(), sampled.end(), query), sampled.end());
+  // The sample spans the whole support, not just its middle.
+  const float widest = *std::max_element(d_sampled.begin(), d_sampled.end());
+  EXPECT_GT(widest, 0.8f * radius * radius);
+  EXPECT_LE(widest, radius * radius);
+  for (int i : sampled) EXPECT_NE(std::find(all.begin(), all.end(), i), all.end());
+}
+
 TEST(RecognitionOptions, InvalidValuesNameTheField) {
   RecognitionOptions o;
   o.hough_bin_m = 0;

@@ -339,7 +339,13 @@ TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
                                             loose +
                                             ", verify: false}}\n"
                                             "  - {name: verified, " +
-                                            loose + "}}\n");
+                                            loose +
+                                            "}}\n"
+                                            // Foveated on the truth, no radius given by hand.
+                                            "  - {name: fitted, pipeline: foveated, "
+                                            "recognition: {radii_from_model: true, "
+                                            "max_support_half_window_px: 12}, "
+                                            "fovea: {keypoint_radius_m_m: 0.014}}\n");
   const std::string out = ::testing::TempDir() + "cases_out";
   const CliRun r = Saccade("eval --cases " + cases + " --data " + saccade::testing::DataPath("") +
                            " --configs " + configs + " --out " + out + " --no-plots");
@@ -354,11 +360,24 @@ TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
     for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
     rows[cells[0]] = cells;
   }
-  ASSERT_EQ(rows.size(), 2u);
+  ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows["loosened"][3], "2");            // both found...
   EXPECT_GT(std::stoi(rows["loosened"][4]), 20);  // ...among dozens of false instances
   EXPECT_EQ(rows["verified"][3], "2") << r.out;   // verified: both found
   EXPECT_EQ(rows["verified"][4], "0") << r.out;   // and nothing else
+  EXPECT_EQ(rows["fitted"][3], "2") << r.out;     // radii fitted to each model: the same
+  EXPECT_EQ(rows["fitted"][4], "0") << r.out;
+
+  // Every trial has its row, naming its case, with what it found.
+  std::ifstream trials(out + "/trials.csv");
+  std::getline(trials, line);
+  EXPECT_EQ(line.rfind("name,scene,ms,tp,fp,", 0), 0u) << line;
+  std::vector<std::string> names;
+  while (std::getline(trials, line))
+    names.push_back(line.substr(0, line.find(',', line.find(',') + 1)));
+  EXPECT_EQ(names, (std::vector<std::string>{"loosened,tin-44-in-31", "loosened,pringles-31-in-24",
+                                             "verified,tin-44-in-31", "verified,pringles-31-in-24",
+                                             "fitted,tin-44-in-31", "fitted,pringles-31-in-24"}));
 }
 
 }  // namespace
