@@ -1,6 +1,8 @@
 // The shipped configuration files load strictly and say what they claim.
 #include "daemon/settings.h"
 
+#include "io/config.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -40,6 +42,17 @@ TEST(DaemonSettings, ShippedFileHoldsThePaperDefaults) {
   EXPECT_EQ(s.attention.max_targets, 1);
   EXPECT_FALSE(s.attention.predict);  // off: the paper's behaviour
   EXPECT_TRUE(s.models.empty());      // the one thing a user must set
+}
+
+TEST(DaemonSettings, ShippedFileDocumentsEveryRecognitionAndFoveaKey) {
+  std::ifstream in(kConfigs + "saccaded.yaml");
+  ASSERT_TRUE(in.good());
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  RecognitionOptions r;
+  FoveaOptions f;
+  for (const ConfigKeys& keys : {RecognitionKeys(&r), FoveaKeys(&f)})
+    for (const auto& [key, setter] : keys.setters)
+      EXPECT_NE(text.find("\n  " + key + ":"), std::string::npos) << key << " is not in the file";
 }
 
 TEST(DaemonSettings, DemoFileLoadsAndNamesAModel) {
