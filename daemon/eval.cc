@@ -410,10 +410,14 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   // Every trial with the fovea on the truth: which scene found what, and where the time went.
   std::ofstream tr(dir / "trials.csv");
   tr << "name,scene,ms,tp,fp,points,keypoints,correspondences,hypotheses,instances";
-  const std::vector<std::pair<std::string, double>> no_stages;
-  const auto& stage_names =
-      trials.empty() || trials[0].empty() ? no_stages : trials[0][0].stats.stage_ms;
-  for (const auto& [stage, ms] : stage_names) tr << ",ms_" << stage;
+  // Every stage any trial timed, in order (PCL's stock pipeline times fewer stages).
+  std::vector<std::string> stage_names;
+  for (const auto& per_config : trials)
+    for (const Trial& t : per_config)
+      for (const auto& [stage, ms] : t.stats.stage_ms)
+        if (std::find(stage_names.begin(), stage_names.end(), stage) == stage_names.end())
+          stage_names.push_back(stage);
+  for (const std::string& stage : stage_names) tr << ",ms_" << stage;
   tr << "\n";
   for (std::size_t c = 0; c < configs.size(); ++c)
     for (std::size_t i = 0; i < scenes.size(); ++i) {
@@ -423,8 +427,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
          << ',' << s.false_positives << ',' << t.stats.TotalPoints() << ','
          << t.stats.TotalKeypoints() << ',' << t.stats.correspondences << ',' << t.stats.hypotheses
          << ',' << t.centres.size();
-      // The stock pipeline times fewer stages: the table keeps the first trial's columns.
-      for (const auto& [stage, unused] : stage_names) {
+      for (const std::string& stage : stage_names) {
         tr << ',';
         for (const auto& [name, ms] : t.stats.stage_ms)
           if (name == stage) tr << ms;
