@@ -64,7 +64,7 @@ bool SameModelRadii(const RecognitionOptions& a, const RecognitionOptions& b) {
          a.model_lrf_radius_m == b.model_lrf_radius_m && a.match_branching == b.match_branching &&
          a.match_checks == b.match_checks && a.match_seed == b.match_seed &&
          a.vote_for_model_origin == b.vote_for_model_origin &&
-         a.verify.model_points == b.verify.model_points;
+         a.radii_from_model == b.radii_from_model && a.verify.model_points == b.verify.model_points;
 }
 
 std::shared_ptr<const Engine> MakeEngine(const DaemonSettings& s, Models models) {
