@@ -96,6 +96,10 @@ RecognitionOptions FitRadii(const RecognitionOptions& base, const ModelScale& sc
   return o;
 }
 
+RecognitionOptions RadiiForModel(const RecognitionOptions& options, const ModelScale& scale) {
+  return options.radii_from_model ? FitRadii(options, scale) : options;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Model
 
@@ -136,7 +140,7 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
                                               std::string* error) {
   ModelDescription out;
   out.scale_ = MeasureModel(model);
-  const RecognitionOptions options = given.radii_from_model ? FitRadii(given, out.scale_) : given;
+  const RecognitionOptions options = RadiiForModel(given, out.scale_);
   // Only finite points make the model; its frame and units stay those of the file.
   for (const auto& p : model.points)
     if (FinitePoint(p)) out.cloud_.push_back(p);
@@ -336,8 +340,7 @@ std::size_t RecognitionStats::TotalKeypoints() const {
 RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
                             const SceneQuery& query, const RecognitionOptions& given,
                             const ParallelFor& parallel_for, std::string* error) {
-  const RecognitionOptions options =
-      given.radii_from_model ? FitRadii(given, model.scale()) : given;
+  const RecognitionOptions options = RadiiForModel(given, model.scale());
   RecognitionResult result;
   auto& stats = result.stats;
   const auto t_total = Clock::now();

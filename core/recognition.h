@@ -83,6 +83,10 @@ ModelScale MeasureModel(const Cloud& model);
 /// half of it (the residual error of frames that wide). Other fields are kept.
 RecognitionOptions FitRadii(const RecognitionOptions& base, const ModelScale& scale);
 
+/// The options a model of `scale` is described and searched with: FitRadii(options, scale) when
+/// options.radii_from_model is set, else `options` as they are.
+RecognitionOptions RadiiForModel(const RecognitionOptions& options, const ModelScale& scale);
+
 /// The model, described once: its keypoints, their frames and descriptors, and a search
 /// index over the descriptors. Immutable after DescribeModel; safe to share between threads.
 class ModelDescription {

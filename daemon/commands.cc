@@ -67,7 +67,7 @@ void WriteMatrix(JsonWriter& j, const Eigen::Matrix4f& m) {
 // The radii a run used (fitted to the model with radii_from_model), by config key.
 std::vector<std::pair<const char*, float>> RadiiUsed(const ModelDescription& model,
                                                      const RecognitionOptions& given) {
-  const RecognitionOptions o = given.radii_from_model ? FitRadii(given, model.scale()) : given;
+  const RecognitionOptions o = RadiiForModel(given, model.scale());
   return {{"model_keypoint_radius_m", o.model_keypoint_radius_m},
           {"scene_keypoint_radius_m", o.scene_keypoint_radius_m},
           {"shot_radius_m", o.scene_shot_radius_m},
