@@ -33,18 +33,19 @@ class OrganizedSearch final : public NeighborSearch {
     const float z_near = std::max(q.z() - r, 0.05f);
     const int hu = static_cast<int>(std::ceil(r * k_.fx / z_near)) + 1;
     const int hv = static_cast<int>(std::ceil(r * k_.fy / z_near)) + 1;
-    // A window wider than the limit is sampled every `step` pixels (through the query's own
-    // pixel), so that the support holds about as many points as the limit's window would.
+    // A window wider than the limit is sampled every `step` pixels, so that the support holds
+    // about as many points as the limit's window would. The samples lie on one image-wide grid
+    // (multiples of `step`), not on one through each query: neighbouring keypoints then share
+    // their samples, and normals are needed only on that grid (SupportMask).
     const int step = max_half_ > 0 ? (std::max(hu, hv) + max_half_ - 1) / max_half_ : 1;
     const int u0 = query % w, v0 = query / w;
-    // Window bounds: multiples of `step` from the query, clipped to the image.
-    const auto lo = [step](int at, int half) { return at - std::min(half, at) / step * step; };
-    const auto hi = [step](int at, int half, int size) {
-      return at + std::min(half, size - 1 - at) / step * step;
+    const auto first = [step](int at, int half) {
+      return (std::max(0, at - half) + step - 1) / step * step;
     };
-    const int u_lo = lo(u0, hu), u_hi = hi(u0, hu, w), v_hi = hi(v0, hv, h);
+    const int u_lo = first(u0, hu), u_hi = std::min(w - 1, u0 + hu);
+    const int v_lo = first(v0, hv), v_hi = std::min(h - 1, v0 + hv);
     const float r2 = r * r;
-    for (int v = lo(v0, hv); v <= v_hi; v += step) {
+    for (int v = v_lo; v <= v_hi; v += step) {
       const int row = v * w;
       for (int u = u_lo; u <= u_hi; u += step) {
         const int i = row + u;
@@ -405,21 +406,40 @@ bool ShotHistogram(const Cloud& cloud, const Normals& normals, int center,
 
 }  // namespace
 
+Supports FindSupports(const Cloud& cloud, const std::vector<int>& keypoints,
+                      const NeighborSearch& search, const DescribeOptions& options,
+                      const ParallelFor& parallel_for) {
+  Supports out;
+  out.indices.resize(keypoints.size());
+  out.sqr_dists.resize(keypoints.size());
+  const float radius = std::max(options.shot_radius_m, options.lrf_radius_m);
+  parallel_for(keypoints.size(), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      if (cloud[keypoints[i]].getVector3fMap().allFinite())
+        search.Radius(keypoints[i], radius, &out.indices[i], &out.sqr_dists[i]);
+  });
+  return out;
+}
+
+std::vector<std::uint8_t> SupportMask(const Supports& supports, std::size_t cloud_size) {
+  std::vector<std::uint8_t> mask(cloud_size, 0);
+  for (const auto& support : supports.indices)
+    for (int j : support) mask[j] = 1;
+  return mask;
+}
+
 Descriptors DescribeKeypoints(const Cloud& cloud, const Normals& normals,
-                              const std::vector<int>& keypoints, const NeighborSearch& search,
+                              const std::vector<int>& keypoints, const Supports& supports,
                               const DescribeOptions& options, const ParallelFor& parallel_for) {
   const std::size_t n = keypoints.size();
   std::vector<Eigen::Matrix3f> lrfs(n);
   std::vector<float> shots(n * kShotLength);
   std::vector<std::uint8_t> ok(n, 0);
-  const float radius = std::max(options.shot_radius_m, options.lrf_radius_m);
   parallel_for(n, [&](std::size_t begin, std::size_t end) {
-    std::vector<int> nn;
-    std::vector<float> d2;
     for (std::size_t i = begin; i < end; ++i) {
       const int kp = keypoints[i];
-      if (!cloud[kp].getVector3fMap().allFinite()) continue;
-      search.Radius(kp, radius, &nn, &d2);
+      const auto& nn = supports.indices[i];
+      const auto& d2 = supports.sqr_dists[i];
       if (static_cast<int>(nn.size()) < options.min_neighbors) continue;
       if (!ShotLocalFrame(cloud, kp, nn, d2, options.lrf_radius_m, &lrfs[i])) continue;
       ok[i] = ShotHistogram(cloud, normals, kp, lrfs[i], nn, d2, options.shot_radius_m,
@@ -435,6 +455,14 @@ Descriptors DescribeKeypoints(const Cloud& cloud, const Normals& normals,
                     shots.begin() + (i + 1) * kShotLength);
   }
   return out;
+}
+
+Descriptors DescribeKeypoints(const Cloud& cloud, const Normals& normals,
+                              const std::vector<int>& keypoints, const NeighborSearch& search,
+                              const DescribeOptions& options, const ParallelFor& parallel_for) {
+  return DescribeKeypoints(cloud, normals, keypoints,
+                           FindSupports(cloud, keypoints, search, options, parallel_for), options,
+                           parallel_for);
 }
 
 }  // namespace saccade

@@ -19,8 +19,8 @@ constexpr int kShotLength = 352;  // 32 spatial volumes x (10 cosine bins + 1), 
 class NeighborSearch {
  public:
   virtual ~NeighborSearch() = default;
-  /// Appends the surface points within `radius_m` of surface point `query` (itself included),
-  /// with their squared distances. Clears both outputs first.
+  /// Appends the surface points within `radius_m` of surface point `query` (itself included
+  /// unless the window is sampled), with their squared distances. Clears both outputs first.
   virtual void Radius(int query, float radius_m, std::vector<int>* indices,
                       std::vector<float>* sqr_dists) const = 0;
 };
@@ -82,9 +82,29 @@ struct DescribeOptions {
   int min_neighbors = 5;        // fewer points in the support: no descriptor (as PCL)
 };
 
-/// Describes the keypoints; keypoints whose frame or histogram is undefined (too few
-/// neighbours, NaN normals everywhere, degenerate covariance) are left out, so no NaN ever
-/// leaves this function.
+/// The support of each keypoint: the surface points within the wider of the SHOT and LRF radii
+/// (DescribeOptions), with their squared distances. Found once, they tell where descriptors will
+/// read normals (SupportMask) before any normal is computed.
+struct Supports {
+  std::vector<std::vector<int>> indices;
+  std::vector<std::vector<float>> sqr_dists;
+};
+Supports FindSupports(const Cloud& cloud, const std::vector<int>& keypoints,
+                      const NeighborSearch& search, const DescribeOptions& options,
+                      const ParallelFor& parallel_for = SerialFor);
+
+/// A mask over the cloud (size `cloud_size`) of every point some support holds: the only points
+/// whose normals a SHOT histogram reads.
+std::vector<std::uint8_t> SupportMask(const Supports& supports, std::size_t cloud_size);
+
+/// Describes the keypoints from their supports; keypoints whose frame or histogram is undefined
+/// (too few neighbours, NaN normals everywhere, degenerate covariance) are left out, so no NaN
+/// ever leaves this function. `normals` must be set on SupportMask(supports).
+Descriptors DescribeKeypoints(const Cloud& cloud, const Normals& normals,
+                              const std::vector<int>& keypoints, const Supports& supports,
+                              const DescribeOptions& options,
+                              const ParallelFor& parallel_for = SerialFor);
+/// The same, finding the supports with `search`.
 Descriptors DescribeKeypoints(const Cloud& cloud, const Normals& normals,
                               const std::vector<int>& keypoints, const NeighborSearch& search,
                               const DescribeOptions& options,

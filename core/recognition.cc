@@ -384,14 +384,7 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   for (const auto& level : level_points) stats.level_points.push_back(level.size());
   stats.stage_ms.emplace_back("foveate", MsSince(t));
 
-  // 2. Normals from the full-resolution geometry, only where a point is kept.
-  t = Clock::now();
-  const Normals normals = organized ? OrganizedNormals(scene, *intrinsics, mask,
-                                                       options.scene_normal_neighbors, parallel_for)
-                                    : KnnNormals(scene, mask, options.scene_normal_neighbors);
-  stats.stage_ms.emplace_back("normals", MsSince(t));
-
-  // 3. Keypoints per level, each with its own radius.
+  // 2. Keypoints per level, each with its own radius.
   t = Clock::now();
   std::vector<int> keypoints;
   for (std::size_t k = 0; k < level_points.size(); ++k) {
@@ -401,7 +394,7 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   }
   stats.stage_ms.emplace_back("keypoints", MsSince(t));
 
-  // 4. SHOT and its local frame, on the kept points as the search surface.
+  // 3. Each keypoint's support on the kept points (the search surface) ...
   t = Clock::now();
   const auto search =
       organized ? MakeOrganizedSearch(scene, *intrinsics, mask, options.max_support_half_window_px)
@@ -409,10 +402,23 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   DescribeOptions describe;
   describe.shot_radius_m = options.scene_shot_radius_m;
   describe.lrf_radius_m = options.scene_lrf_radius_m;
+  const Supports supports = FindSupports(scene, keypoints, *search, describe, parallel_for);
+  const double ms_supports = MsSince(t);
+
+  // 4. ... normals from the full-resolution geometry, only where a support reads them ...
+  t = Clock::now();
+  const std::vector<std::uint8_t> wanted = SupportMask(supports, scene.size());
+  const Normals normals = organized ? OrganizedNormals(scene, *intrinsics, wanted,
+                                                       options.scene_normal_neighbors, parallel_for)
+                                    : KnnNormals(scene, wanted, options.scene_normal_neighbors);
+  stats.stage_ms.emplace_back("normals", MsSince(t));
+
+  // ... and SHOT with its local frame (with the support search, the "describe" stage).
+  t = Clock::now();
   const Descriptors scene_desc =
-      DescribeKeypoints(scene, normals, keypoints, *search, describe, parallel_for);
+      DescribeKeypoints(scene, normals, keypoints, supports, describe, parallel_for);
   stats.described = scene_desc.size();
-  stats.stage_ms.emplace_back("describe", MsSince(t));
+  stats.stage_ms.emplace_back("describe", ms_supports + MsSince(t));
 
   // 5. Nearest model descriptor of each scene descriptor.
   t = Clock::now();
