@@ -4,13 +4,15 @@
 #include "core/features.h"
 #include "core/foveation.h"
 
-#include <pcl/kdtree/kdtree_flann.h>
+#include <flann/algorithms/dist.h>
+#include <flann/algorithms/kdtree_single_index.h>
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace saccade {
 
@@ -52,10 +54,10 @@ bool HasColour(const Cloud& cloud) {
 // rectangle the sphere can project into is scanned, every `spacing_m` (in pixels at the centre's
 // depth) rather than every pixel: a surface sampled that finely still puts a point within
 // spacing_m of any point on it, and the search over it is built in a fraction of the time.
-pcl::PointCloud<pcl::PointXYZ>::Ptr Crop(const Cloud& scene,
-                                         const std::optional<CameraIntrinsics>& k,
-                                         const Eigen::Vector3f& centre, float radius_m,
-                                         float spacing_m, std::vector<int>* indices) {
+// Returns x, y, z of each kept point in turn; `indices` gets their scene indices.
+std::vector<float> Crop(const Cloud& scene, const std::optional<CameraIntrinsics>& k,
+                        const Eigen::Vector3f& centre, float radius_m, float spacing_m,
+                        std::vector<int>* indices) {
   int u0 = 0, u1 = int(scene.width) - 1, v0 = 0, v1 = int(scene.height) - 1, step = 1;
   const float near_z = centre.z() - radius_m;
   if (k && scene.height > 1 && near_z > 0.05f) {
@@ -68,18 +70,56 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr Crop(const Cloud& scene,
     v1 = std::min(v1, int(std::ceil(v + half)));
     step = std::max(1, int(spacing_m * float(std::min(k->fx, k->fy)) / centre.z()));
   }
-  pcl::PointCloud<pcl::PointXYZ>::Ptr out(new pcl::PointCloud<pcl::PointXYZ>);
+  std::vector<float> out;
   const float r2 = radius_m * radius_m;
   for (int v = v0; v <= v1; v += step)
     for (int u = u0; u <= u1; u += step) {
       const int i = v * int(scene.width) + u;
       const Eigen::Vector3f p = scene[i].getVector3fMap();
       if (!p.allFinite() || (p - centre).squaredNorm() > r2) continue;
-      out->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+      out.insert(out.end(), {p.x(), p.y(), p.z()});
       indices->push_back(i);
     }
   return out;
 }
+
+// The nearest of a set of points within a given distance. FLANN's single kd-tree is called
+// directly: PCL's wrapper spends more per query (a copy of the query, an OpenMP region, index
+// conversions) than the search itself, and ICP asks thousands of times per candidate.
+class NearestIndex {
+ public:
+  explicit NearestIndex(std::vector<float> xyz)
+      : xyz_(std::move(xyz)),
+        index_(flann::Matrix<float>(xyz_.data(), xyz_.size() / 3, 3),
+               flann::KDTreeSingleIndexParams(10, false)) {
+    index_.buildIndex();
+  }
+  std::size_t size() const { return xyz_.size() / 3; }
+  const float* point(int i) const { return xyz_.data() + 3 * i; }
+
+  // The nearest point's index and squared distance; index -1 when none is within
+  // sqrt(max_sqr_distance) (a point at exactly that distance counts).
+  std::pair<int, float> Nearest(const Eigen::Vector3f& p, float max_sqr_distance) const {
+    Within result(std::nextafter(max_sqr_distance, std::numeric_limits<float>::infinity()));
+    index_.findNeighbors(result, p.data(), flann::SearchParams());
+    return {result.index, result.sqr_distance};
+  }
+
+ private:
+  // A result set of one that prunes every branch farther than the bound from the start.
+  struct Within final : flann::ResultSet<float> {
+    explicit Within(float bound) : sqr_distance(bound) {}
+    bool full() const override { return true; }
+    void addPoint(float d, std::size_t i) override {
+      if (d < sqr_distance) sqr_distance = d, index = int(i);
+    }
+    float worstDist() const override { return sqr_distance; }
+    float sqr_distance;
+    int index = -1;
+  };
+  std::vector<float> xyz_;  // before index_, which points into it
+  flann::KDTreeSingleIndex<flann::L2_Simple<float>> index_;
+};
 
 struct Check {
   Eigen::Matrix4f pose;
@@ -129,17 +169,9 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   std::vector<int> crop_index;
   // Sampled half an inlier distance apart, the nearest scene point is at most ~0.35 inlier
   // distances farther than on the full grid: a model point on the surface stays an inlier.
-  const auto crop = Crop(scene, k, centre, model.radius_m + o.icp_max_distance_m + 0.01f,
-                         o.inlier_distance_m / 2, &crop_index);
-  if (crop->size() < 10) return c;
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
-  tree.setInputCloud(crop);
-  std::vector<int> nn(1);
-  std::vector<float> d2(1);
-  const auto nearest = [&](const Eigen::Vector3f& p) {
-    tree.nearestKSearch(pcl::PointXYZ(p.x(), p.y(), p.z()), 1, nn, d2);
-    return std::pair<int, float>(nn[0], d2[0]);
-  };
+  const NearestIndex crop(Crop(scene, k, centre, model.radius_m + o.icp_max_distance_m + 0.01f,
+                               o.inlier_distance_m / 2, &crop_index));
+  if (crop.size() < 10) return c;
   const std::size_t n_points = model.points.size();
   // ICP aligns an even subset of the points; all of them are counted afterwards.
   const std::size_t icp_step = std::max<std::size_t>(1, n_points / std::max(1, o.icp_points));
@@ -150,10 +182,10 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
     int n = 0;
     for (std::size_t m = 0; m < n_points; m += icp_step) {
       const Eigen::Vector3f p = (c.pose * model.points[m].getVector3fMap().homogeneous()).head<3>();
-      const auto [j, dist2] = nearest(p);
-      if (dist2 > max_d * max_d) continue;
+      const int j = crop.Nearest(p, max_d * max_d).first;
+      if (j < 0) continue;
       src.col(n) = p.cast<double>();
-      dst.col(n) = (*crop)[j].getVector3fMap().cast<double>();
+      dst.col(n) = Eigen::Map<const Eigen::Vector3f>(crop.point(j)).cast<double>();
       ++n;
     }
     if (n < 10) break;
@@ -170,8 +202,8 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   const Eigen::Matrix3f R = c.pose.topLeftCorner<3, 3>();
   for (std::size_t m = 0; m < n_points; ++m) {
     const Eigen::Vector3f p = (c.pose * model.points[m].getVector3fMap().homogeneous()).head<3>();
-    const auto [j, dist2] = nearest(p);
-    if (dist2 <= o.inlier_distance_m * o.inlier_distance_m) {
+    const int j = crop.Nearest(p, o.inlier_distance_m * o.inlier_distance_m).first;
+    if (j >= 0) {
       ++c.inliers;
       on_surface.push_back(model.points[m].getVector3fMap());
       c.explained.push_back(crop_index[j]);
