@@ -30,12 +30,13 @@ commands:
             the points is gone, cluster the rest; write the picked cluster as a model
   eval      --dataset DIR|SPEC|FILE.pcd --model M --configs FILE.yaml [--out DIR]
             [--model-centre x,y,z] [--truth-pose POSE.txt] [--sphere-radius R]
-            [--sweep NAME,...] [--reference NAME] [--frames N] [--no-plots]
+            [--sweep NAME,...] [--reference NAME] [--frames N] [--repeat N] [--no-plots]
   eval      --cases CASES.yaml [--data DIR] --configs FILE.yaml [--out DIR] [...]
             run recognition configurations over frames with ground truth (or over labelled
             cross-capture cases); write Table 7 style tables (CSV, Markdown), every trial's
             counts and stage times, TP/FP against the distance threshold, the fovea-distance
-            sweep, and their PNG plots (gnuplot)
+            sweep, and their PNG plots (gnuplot); --repeat N times each trial N times and
+            keeps the median
   demo      [--seed N]
             render a synthetic Kinect scene and find in it a target modelled from another
             capture; exit 1 when the target is not found
