@@ -394,33 +394,45 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   }
   stats.stage_ms.emplace_back("keypoints", MsSince(t));
 
-  // 3. Each keypoint's support on the kept points (the search surface) ...
-  t = Clock::now();
+  // 3. SHOT with its local frame, on the kept points as the search surface, and the normals
+  // they read, from the full-resolution geometry. With sampled supports (a bounded number of
+  // points each) the supports are found first and normals computed only where they read them:
+  // a fraction of the kept points. Unsampled supports read nearly every kept point, and held
+  // in memory they would run to hundreds of megabytes on a whole frame: there every kept
+  // point gets its normal and each support is found as it is described.
   const auto search =
       organized ? MakeOrganizedSearch(scene, *intrinsics, mask, options.max_support_half_window_px)
                 : MakeKdTreeSearch(scene, mask);
   DescribeOptions describe;
   describe.shot_radius_m = options.scene_shot_radius_m;
   describe.lrf_radius_m = options.scene_lrf_radius_m;
-  const Supports supports = FindSupports(scene, keypoints, *search, describe, parallel_for);
-  const double ms_supports = MsSince(t);
-
-  // 4. ... normals from the full-resolution geometry, only where a support reads them ...
-  t = Clock::now();
-  const std::vector<std::uint8_t> wanted = SupportMask(supports, scene.size());
-  const Normals normals = organized ? OrganizedNormals(scene, *intrinsics, wanted,
-                                                       options.scene_normal_neighbors, parallel_for)
-                                    : KnnNormals(scene, wanted, options.scene_normal_neighbors);
-  stats.stage_ms.emplace_back("normals", MsSince(t));
-
-  // ... and SHOT with its local frame (with the support search, the "describe" stage).
-  t = Clock::now();
-  const Descriptors scene_desc =
-      DescribeKeypoints(scene, normals, keypoints, supports, describe, parallel_for);
+  const auto normals_on = [&](const std::vector<std::uint8_t>& where) {
+    return organized ? OrganizedNormals(scene, *intrinsics, where, options.scene_normal_neighbors,
+                                        parallel_for)
+                     : KnnNormals(scene, where, options.scene_normal_neighbors);
+  };
+  Descriptors scene_desc;
+  if (organized && options.max_support_half_window_px > 0) {
+    t = Clock::now();
+    const Supports supports = FindSupports(scene, keypoints, *search, describe, parallel_for);
+    const double ms_supports = MsSince(t);
+    t = Clock::now();
+    const Normals normals = normals_on(SupportMask(supports, scene.size()));
+    stats.stage_ms.emplace_back("normals", MsSince(t));
+    t = Clock::now();
+    scene_desc = DescribeKeypoints(scene, normals, keypoints, supports, describe, parallel_for);
+    stats.stage_ms.emplace_back("describe", ms_supports + MsSince(t));
+  } else {
+    t = Clock::now();
+    const Normals normals = normals_on(mask);
+    stats.stage_ms.emplace_back("normals", MsSince(t));
+    t = Clock::now();
+    scene_desc = DescribeKeypoints(scene, normals, keypoints, *search, describe, parallel_for);
+    stats.stage_ms.emplace_back("describe", MsSince(t));
+  }
   stats.described = scene_desc.size();
-  stats.stage_ms.emplace_back("describe", ms_supports + MsSince(t));
 
-  // 5. Nearest model descriptor of each scene descriptor.
+  // 4. Nearest model descriptor of each scene descriptor.
   t = Clock::now();
   std::vector<std::pair<int, float>> nearest(scene_desc.size());
   parallel_for(scene_desc.size(), [&](std::size_t begin, std::size_t end) {
@@ -433,14 +445,14 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   stats.correspondences = correspondences.size();
   stats.stage_ms.emplace_back("match", MsSince(t));
 
-  // 6. Hough voting and pose per instance.
+  // 5. Hough voting and pose per instance.
   t = Clock::now();
   result.instances = HoughGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc,
                                 scene, correspondences, options);
   stats.hypotheses = result.instances.size();
   stats.stage_ms.emplace_back("group", MsSince(t));
 
-  // 7. Keep the hypotheses the scene confirms, refined.
+  // 6. Keep the hypotheses the scene confirms, refined.
   t = Clock::now();
   if (options.verify.enabled)
     result.instances = VerifyInstances(model.verification(), model.centroid(), scene,
