@@ -1,6 +1,7 @@
 #include "core/recognition.h"
 
 #include "core/fail.h"
+#include "core/nearest_within.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 #include <flann/flann.hpp>
@@ -105,23 +106,17 @@ RecognitionOptions RadiiForModel(const RecognitionOptions& options, const ModelS
 
 struct ModelDescription::Index {
   std::vector<float> data;  // owned copy the FLANN matrix points into
-  std::unique_ptr<flann::Index<flann::L2<float>>> flann;
+  std::unique_ptr<flann::KMeansIndex<flann::L2<float>>> kmeans;
 };
 
 ModelDescription::~ModelDescription() = default;
 ModelDescription::ModelDescription(ModelDescription&&) noexcept = default;
 ModelDescription& ModelDescription::operator=(ModelDescription&&) noexcept = default;
 
-std::pair<int, float> ModelDescription::Nearest(const float* shot) const {
-  int index = -1;
-  float dist = std::numeric_limits<float>::infinity();
-  flann::Matrix<float> query(const_cast<float*>(shot), 1, kShotLength);
-  flann::Matrix<int> idx(&index, 1, 1);
-  flann::Matrix<float> d(&dist, 1, 1);
-  flann::SearchParams params(checks_);
-  params.cores = 1;
-  index_->flann->knnSearch(query, idx, d, 1, params);
-  return {index, dist};
+std::pair<int, float> ModelDescription::Nearest(const float* shot, float max_sqr_distance) const {
+  NearestWithin result(max_sqr_distance);
+  index_->kmeans->findNeighbors(result, shot, flann::SearchParams(checks_));
+  return {result.index(), result.sqr_distance()};
 }
 
 std::optional<Eigen::Vector3f> FiniteCentroid(const Cloud& cloud) {
@@ -178,9 +173,9 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
   // which we seed, so the index (and every match) is the same on every run. (FLANN's
   // randomized kd-trees shuffle with std::random_device and cannot be made repeatable.)
   std::srand(options.match_seed);
-  out.index_->flann = std::make_unique<flann::Index<flann::L2<float>>>(
+  out.index_->kmeans = std::make_unique<flann::KMeansIndex<flann::L2<float>>>(
       data, flann::KMeansIndexParams(options.match_branching, 11, flann::FLANN_CENTERS_KMEANSPP));
-  out.index_->flann->buildIndex();
+  out.index_->kmeans->buildIndex();
   out.checks_ = options.match_checks;
   return out;
 }
@@ -202,15 +197,16 @@ struct CellHash {
   }
 };
 
-// Rigid transform (no scale) taking `from` onto `to` in the least-squares sense.
+// Rigid transform (no scale) taking `from` onto `to` in the least-squares sense. In double:
+// GCC 12 sees a false out-of-bounds read in Eigen's float umeyama.
 Eigen::Matrix4f FitRigid(const std::vector<Eigen::Vector3f>& from,
                          const std::vector<Eigen::Vector3f>& to) {
-  Eigen::Matrix3Xf a(3, from.size()), b(3, to.size());
+  Eigen::Matrix3Xd a(3, from.size()), b(3, to.size());
   for (std::size_t i = 0; i < from.size(); ++i) {
-    a.col(i) = from[i];
-    b.col(i) = to[i];
+    a.col(i) = from[i].cast<double>();
+    b.col(i) = to[i].cast<double>();
   }
-  return Eigen::umeyama(a, b, false);
+  return Eigen::umeyama(a, b, false).cast<float>();
 }
 
 }  // namespace
@@ -436,7 +432,8 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   t = Clock::now();
   std::vector<std::pair<int, float>> nearest(scene_desc.size());
   parallel_for(scene_desc.size(), [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) nearest[i] = model.Nearest(scene_desc.Row(i));
+    for (std::size_t i = begin; i < end; ++i)
+      nearest[i] = model.Nearest(scene_desc.Row(i), options.max_descriptor_sqr_distance);
   });
   std::vector<std::pair<int, int>> correspondences;
   for (std::size_t i = 0; i < nearest.size(); ++i)

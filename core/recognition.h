@@ -9,6 +9,7 @@
 #include "core/types.h"
 #include "core/verification.h"
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -105,9 +106,11 @@ class ModelDescription {
   /// Its size and point spacing: with radii_from_model, Recognize fits its radii to these.
   const ModelScale& scale() const { return scale_; }
 
-  /// Nearest model descriptor of `shot` (kShotLength floats): index into descriptors() and
-  /// squared distance.
-  std::pair<int, float> Nearest(const float* shot) const;
+  /// Nearest model descriptor of `shot` (kShotLength floats) within sqrt(max_sqr_distance):
+  /// index into descriptors() (-1 when none is that near) and squared distance. The bound
+  /// prunes the search.
+  std::pair<int, float> Nearest(
+      const float* shot, float max_sqr_distance = std::numeric_limits<float>::infinity()) const;
 
  private:
   friend std::optional<ModelDescription> DescribeModel(const Cloud&, const RecognitionOptions&,

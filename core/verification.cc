@@ -3,6 +3,7 @@
 #include "core/fail.h"
 #include "core/features.h"
 #include "core/foveation.h"
+#include "core/nearest_within.h"
 
 #include <flann/algorithms/dist.h>
 #include <flann/algorithms/kdtree_single_index.h>
@@ -83,7 +84,7 @@ std::vector<float> Crop(const Cloud& scene, const std::optional<CameraIntrinsics
   return out;
 }
 
-// The nearest of a set of points within a given distance. FLANN's single kd-tree is called
+// The nearest of a set of points within a given distance, through FLANN's single kd-tree
 // directly: PCL's wrapper spends more per query (a copy of the query, an OpenMP region, index
 // conversions) than the search itself, and ICP asks thousands of times per candidate.
 class NearestIndex {
@@ -100,23 +101,12 @@ class NearestIndex {
   // The nearest point's index and squared distance; index -1 when none is within
   // sqrt(max_sqr_distance) (a point at exactly that distance counts).
   std::pair<int, float> Nearest(const Eigen::Vector3f& p, float max_sqr_distance) const {
-    Within result(std::nextafter(max_sqr_distance, std::numeric_limits<float>::infinity()));
+    NearestWithin result(max_sqr_distance);
     index_.findNeighbors(result, p.data(), flann::SearchParams());
-    return {result.index, result.sqr_distance};
+    return {result.index(), result.sqr_distance()};
   }
 
  private:
-  // A result set of one that prunes every branch farther than the bound from the start.
-  struct Within final : flann::ResultSet<float> {
-    explicit Within(float bound) : sqr_distance(bound) {}
-    bool full() const override { return true; }
-    void addPoint(float d, std::size_t i) override {
-      if (d < sqr_distance) sqr_distance = d, index = int(i);
-    }
-    float worstDist() const override { return sqr_distance; }
-    float sqr_distance;
-    int index = -1;
-  };
   std::vector<float> xyz_;  // before index_, which points into it
   flann::KDTreeSingleIndex<flann::L2_Simple<float>> index_;
 };
