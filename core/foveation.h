@@ -28,7 +28,7 @@ struct FoveaOptions {
   float density_0_m = 0.03f;          // d_0: voxel leaf of the coarsest level (0 keeps every point)
   float density_m_m = 0.0f;           // d_m: voxel leaf of the fovea level (0 keeps every point)
   float keypoint_radius_0_m = 0.08f;  // r_0: keypoint sampling radius of level 0
-  float keypoint_radius_m_m = 0.02f;  // r_m: keypoint sampling radius of level m
+  float keypoint_radius_m_m = 0.012f;  // r_m: keypoint sampling radius of level m; paper: 0.02
 
   /// Returns true when usable; otherwise false with `error` naming the offending field.
   bool IsValid(std::string* error) const;

@@ -55,8 +55,17 @@ bool RecognitionOptions::IsValid(std::string* error) const {
   return verify.IsValid(error);
 }
 
-RecognitionOptions RecognitionOptions::CrossCapture() {
+RecognitionOptions RecognitionOptions::Paper() {
   RecognitionOptions o;
+  o.radii_from_model = false;
+  o.max_support_half_window_px = 0;
+  o.match_branching = 16;
+  o.match_checks = 32;
+  return o;
+}
+
+RecognitionOptions RecognitionOptions::CrossCapture() {
+  RecognitionOptions o = Paper();
   o.scene_shot_radius_m = o.model_shot_radius_m = 0.04f;
   o.scene_lrf_radius_m = o.model_lrf_radius_m = 0.03f;
   o.hough_bin_m = 0.02f;

@@ -18,8 +18,11 @@
 
 namespace saccade {
 
-/// Correspondence-grouping parameters (paper Table 1, in metres). "scene" values apply to the
-/// scene cloud, "model" values to the model cloud.
+/// Correspondence-grouping parameters, in metres. "scene" values apply to the scene cloud,
+/// "model" values to the model cloud. The defaults are Saccade's (docs/RESULTS.md): radii fitted
+/// to each model, wide supports sampled, a quick descriptor match. The radius fields hold the
+/// paper's Table 1 values and are used as given only with radii_from_model off
+/// (configs/paper.yaml, Paper()).
 struct RecognitionOptions {
   int scene_normal_neighbors = 10;            // k_ns
   float scene_keypoint_radius_m = 0.03f;      // r_ks (plain recognition only)
@@ -42,28 +45,32 @@ struct RecognitionOptions {
   /// from the keypoint (wide radii, near the camera) are sampled every few pixels down to about
   /// this window's point count: the histogram's shape is kept at a fraction of the cost. 0: use
   /// every pixel.
-  int max_support_half_window_px = 0;
+  int max_support_half_window_px = 8;
   /// Correspondences vote for where the model's centroid lies (paper Algorithm 5). With this
   /// set they vote for the model frame's origin instead: right for a model whose frame is
   /// centred on the object (a ball cut around its centre), where the centroid of the seen cap
   /// is off-centre and every local frame's free spin about the normal scatters its votes.
   bool vote_for_model_origin = false;
   /// Matching: a hierarchical k-means tree over the model descriptors (branching factor) and
-  /// the leaves checked per query (more: closer to exact, slower).
-  int match_branching = 16;
-  int match_checks = 32;
+  /// the descriptors compared per query (more: closer to exact, slower).
+  int match_branching = 8;
+  int match_checks = 16;
   unsigned match_seed = 42;
   /// Hypothesis verification after grouping (ICP, surface and free-space checks, colour).
   VerificationOptions verify;
   /// Replace the radii above (keypoints, SHOT, LRF, Hough bin, pose inliers) by ones fitted to
   /// the model's size and point spacing (FitRadii), so a new object needs no hand tuning.
-  bool radii_from_model = false;
+  bool radii_from_model = true;
 
   bool IsValid(std::string* error) const;
 
+  /// The paper's Table 1 as given: hand-set radii, every support pixel, and the slower, nearer
+  /// exact match Saccade used before fitted radii.
+  static RecognitionOptions Paper();
   /// Table 1's values were tuned for a model cut from the very frame it is searched in. A
   /// model from another capture needs wider supports (repeatable local frames from another
   /// viewpoint) and a coarser Hough grid (the residual frame error); see docs/BENCHMARKS.md.
+  /// Hand-set radii, from Paper().
   static RecognitionOptions CrossCapture();
 };
 

@@ -295,7 +295,9 @@ int RunBench(const std::vector<std::string>& argv, std::ostream& out, std::ostre
     auto r = RecognizeReference(*reference_model, in.scene, gold, &error);
     if (i > 0) plain.runs.push_back(std::move(r));
   }
-  RecognitionOptions gold_fast = in.config.recognition;
+  // The same options as the foveated run (radii fitted when they are), but r_ks = 0.02.
+  RecognitionOptions gold_fast = RadiiForModel(in.config.recognition, model->scale());
+  gold_fast.radii_from_model = false;
   gold_fast.scene_keypoint_radius_m = 0.02f;
   for (int i = 0; i <= frames; ++i) {
     auto r = Recognize(*model, in.scene, plain_fast, gold_fast, parallel_for, &error);

@@ -30,7 +30,7 @@ exit codes: 0 stopped cleanly or the source ended, 1 the source, a model or LCM 
 // The file, then the flags over it.
 bool LoadSettings(const saccade::Args& args, saccade::DaemonSettings* settings,
                   std::string* error) {
-  saccade::DaemonSettings s = saccade::PaperDefaults();
+  saccade::DaemonSettings s;  // Saccade's defaults; the file overrides them
   if (args.Has("config") && !saccade::LoadDaemonSettings(args.Get("config"), &s, error))
     return false;
   if (args.Has("source")) s.source = args.Get("source");

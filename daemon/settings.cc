@@ -8,7 +8,8 @@ namespace saccade {
 
 DaemonSettings PaperDefaults() {
   DaemonSettings s;
-  s.fovea.levels_m = 3;  // Table 2
+  s.recognition = RecognitionOptions::Paper();  // Table 1
+  s.fovea.levels_m = 3;                         // Table 2
   s.fovea.inner_size_m = Eigen::Vector3f::Constant(0.5f);
   s.fovea.keypoint_radius_0_m = 0.08f;
   s.fovea.keypoint_radius_m_m = 0.02f;

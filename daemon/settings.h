@@ -34,7 +34,8 @@ struct DaemonSettings {
   bool IsValid(std::string* error) const;
 };
 
-/// The paper's defaults (Tables 1 and 2) with Saccade's service settings.
+/// The paper's defaults (Tables 1 and 2) with Saccade's service settings. A default-constructed
+/// DaemonSettings holds Saccade's own (configs/saccaded.yaml).
 DaemonSettings PaperDefaults();
 
 /// Applies the file over `settings` strictly: "FILE: key 'a.b': reason" on an unknown key, a

@@ -350,18 +350,24 @@ bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, s
 
 namespace {
 
-// A file holding one key, `list`, whose value is a list of mappings: calls `entry` with each
-// mapping, its index and its name for errors ("list[3]"), stopping at the first false.
-bool ForEachListEntry(
-    const std::string& path, const std::string& list_key,
-    const std::function<bool(const YAML::Node&, std::size_t, const std::string&)>& entry,
-    std::string* error) {
+// A file holding the key `list_key`, whose value is a list of mappings, and optionally
+// `header_key` (handed to `header` first): calls `entry` with each mapping, its index and its
+// name for errors ("list[3]"), stopping at the first false.
+using EntryFn = std::function<bool(const YAML::Node&, std::size_t, const std::string&)>;
+bool ForEachListEntry(const std::string& path, const std::string& list_key, const EntryFn& entry,
+                      std::string* error, const std::string& header_key = "",
+                      const std::function<bool(const YAML::Node&)>& header = nullptr) {
   YAML::Node root;
   if (!LoadRoot(path, &root, error)) return false;
-  if (root.IsNull() || !root[list_key] || !root[list_key].IsSequence() || root.size() != 1) {
-    *error = path + ": expected exactly one key, '" + list_key + "', holding a list";
+  const bool has_header = !header_key.empty() && root.IsMap() && root[header_key];
+  if (root.IsNull() || !root[list_key] || !root[list_key].IsSequence() ||
+      root.size() != 1 + (has_header ? 1 : 0)) {
+    *error = path + ": expected the key '" + list_key + "', holding a list" +
+             (header_key.empty() ? std::string(", and nothing else")
+                                 : ", and at most '" + header_key + "' beside it");
     return false;
   }
+  if (has_header && !header(root[header_key])) return false;
   const YAML::Node list = root[list_key];
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string name = list_key + "[" + std::to_string(i) + "]";
@@ -374,34 +380,57 @@ bool ForEachListEntry(
   return true;
 }
 
+// The `recognition` and `fovea` sections of `node` (named `name` in errors) applied to `config`.
+bool ApplyRecognitionAndFovea(const YAML::Node& node, const std::string& name,
+                              RecognitionConfig* config, const std::string& path,
+                              std::string* error) {
+  const ConfigKeys recognition = RecognitionKeys(&config->recognition);
+  const ConfigKeys fovea = FoveaKeys(&config->fovea);
+  const std::map<std::string, const std::map<std::string, Setter>*> sections = {
+      {"recognition", &recognition.setters}, {"fovea", &fovea.setters}};
+  for (const auto& kv : node) {
+    const std::string key = kv.first.as<std::string>();
+    const auto section = sections.find(key);
+    if (section == sections.end()) {
+      *error = path + ": key '" + name + "." + key + "': unknown (expected recognition, fovea)";
+      return false;
+    }
+    if (!ApplySection(kv.second, name + "." + key, *section->second, path, error)) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& base,
                             std::vector<EvalConfiguration>* out, std::string* error) {
   out->clear();
+  RecognitionConfig defaults = base;
+  const auto apply_defaults = [&](const YAML::Node& node) {
+    if (!node.IsMap()) {
+      *error = path + ": key 'defaults': expected a mapping";
+      return false;
+    }
+    return ApplyRecognitionAndFovea(node, "defaults", &defaults, path, error);
+  };
   return ForEachListEntry(
       path, "configurations",
       [&](const YAML::Node& node, std::size_t i, const std::string& entry) {
         EvalConfiguration c;
-        c.config = base;
+        c.config = defaults;
         c.name = std::to_string(i);
-        const ConfigKeys recognition = RecognitionKeys(&c.config.recognition);
-        const ConfigKeys fovea = FoveaKeys(&c.config.fovea);
         const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)},
                                                    {"pipeline", Scalar(&c.pipeline)}};
+        YAML::Node sections;
         for (const auto& kv : node) {
           const std::string key = kv.first.as<std::string>();
-          const std::string qualified = entry + "." + key;
-          bool ok = true;
-          if (key == "recognition") {
-            ok = ApplySection(kv.second, qualified, recognition.setters, path, error);
-          } else if (key == "fovea") {
-            ok = ApplySection(kv.second, qualified, fovea.setters, path, error);
-          } else {
-            ok = ApplyKey(top, key, qualified, kv.second, path, error);
+          if (key == "recognition" || key == "fovea") {
+            sections[key] = kv.second;
+          } else if (!ApplyKey(top, key, entry + "." + key, kv.second, path, error)) {
+            return false;
           }
-          if (!ok) return false;
         }
+        if (!ApplyRecognitionAndFovea(sections, entry, &c.config, path, error)) return false;
         std::string why;
         if (c.pipeline != "foveated" && c.pipeline != "plain" && c.pipeline != "stock") {
           *error = path + ": key '" + entry + ".pipeline': expected foveated | plain | stock";
@@ -414,7 +443,7 @@ bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& ba
         out->push_back(std::move(c));
         return true;
       },
-      error);
+      error, "defaults", apply_defaults);
 }
 
 bool LoadLabelledCases(const std::string& path, const std::string& data_dir,

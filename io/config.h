@@ -69,10 +69,12 @@ struct EvalConfiguration {
 };
 
 /// An evaluation's configurations file:
+///   defaults: {recognition: {...}, fovea: {...}}   # optional, applied to every entry
 ///   configurations:
 ///     - {name: "1", pipeline: foveated, recognition: {...}, fovea: {...}}
-/// Each entry starts from `base` and applies its sections; strict as LoadRecognitionConfig,
-/// errors name the entry ("configurations[3].fovea.levels_m").
+/// Each entry starts from `base` with the file's defaults applied, then applies its own
+/// sections; strict as LoadRecognitionConfig, errors name the entry
+/// ("configurations[3].fovea.levels_m").
 bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& base,
                             std::vector<EvalConfiguration>* out, std::string* error);
 

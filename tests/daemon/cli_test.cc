@@ -250,6 +250,15 @@ TEST(Cli, EvalRejectsABadConfigurationsFileNamingTheEntry) {
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(Lines(r.out), 1) << r.out;
   EXPECT_NE(r.out.find("configurations[0].fovea.levels_m"), std::string::npos) << r.out;
+  // The same for the defaults every entry starts from.
+  const std::string defaults =
+      WriteFile("bad_defaults.yaml",
+                "defaults:\n  recognition: {hough_bin: 0.02}\nconfigurations:\n  - name: a\n");
+  const CliRun d = Saccade(
+      "eval --dataset synthetic:paper-protocol --model synthetic:ball --configs " + defaults);
+  EXPECT_EQ(d.code, 1);
+  EXPECT_EQ(Lines(d.out), 1) << d.out;
+  EXPECT_NE(d.out.find("defaults.recognition.hough_bin"), std::string::npos) << d.out;
 }
 
 TEST(Cli, SegmentCutsTheFlatBoxOutOfARealSceneAndListsEveryCluster) {
@@ -333,7 +342,11 @@ TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
       "pipeline: plain, recognition: {scene_keypoint_radius_m: 0.01, scene_shot_radius_m: 0.04, "
       "model_shot_radius_m: 0.04, scene_lrf_radius_m: 0.03, model_lrf_radius_m: 0.03, "
       "hough_bin_m: 0.02";
+  // The file's defaults make every row the paper's Table 1 as given unless it says otherwise.
   const std::string configs = WriteFile("cases_configs.yaml",
+                                        "defaults:\n"
+                                        "  recognition: {radii_from_model: false, "
+                                        "max_support_half_window_px: 0}\n"
                                         "configurations:\n"
                                         "  - {name: loosened, " +
                                             loose +

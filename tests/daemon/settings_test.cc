@@ -13,14 +13,56 @@ namespace {
 
 const std::string kConfigs = std::string(SACCADE_SOURCE_DIR) + "/configs/";
 
-TEST(DaemonSettings, ShippedFileHoldsThePaperDefaults) {
+// Every recognition and fovea value that differs between Saccade's defaults and the paper's.
+void ExpectSameRecognitionAndFovea(const DaemonSettings& a, const DaemonSettings& b) {
+  const RecognitionOptions &r = a.recognition, &q = b.recognition;
+  EXPECT_EQ(r.radii_from_model, q.radii_from_model);
+  EXPECT_EQ(r.max_support_half_window_px, q.max_support_half_window_px);
+  EXPECT_EQ(r.match_branching, q.match_branching);
+  EXPECT_EQ(r.match_checks, q.match_checks);
+  EXPECT_FLOAT_EQ(r.scene_keypoint_radius_m, q.scene_keypoint_radius_m);
+  EXPECT_FLOAT_EQ(r.scene_shot_radius_m, q.scene_shot_radius_m);
+  EXPECT_FLOAT_EQ(r.hough_bin_m, q.hough_bin_m);
+  EXPECT_EQ(r.hough_threshold, q.hough_threshold);
+  EXPECT_EQ(r.verify.enabled, q.verify.enabled);
+  EXPECT_EQ(a.fovea.levels_m, b.fovea.levels_m);
+  EXPECT_TRUE(a.fovea.inner_size_m.isApprox(b.fovea.inner_size_m));
+  EXPECT_FLOAT_EQ(a.fovea.keypoint_radius_0_m, b.fovea.keypoint_radius_0_m);
+  EXPECT_FLOAT_EQ(a.fovea.keypoint_radius_m_m, b.fovea.keypoint_radius_m_m);
+  EXPECT_FLOAT_EQ(a.fovea.density_0_m, b.fovea.density_0_m);
+}
+
+TEST(DaemonSettings, ShippedFileHoldsSaccadesDefaults) {
+  // Loaded over the paper's values, the file must bring back every built-in default.
   DaemonSettings s = PaperDefaults();
   std::string error;
   ASSERT_TRUE(LoadDaemonSettings(kConfigs + "saccaded.yaml", &s, &error)) << error;
+  const DaemonSettings saccade;
+  ExpectSameRecognitionAndFovea(s, saccade);
+  EXPECT_TRUE(s.recognition.radii_from_model);  // the defaults fit the radii to the model
+  EXPECT_EQ(s.fovea.levels_m, 2);
+  // The service part is the built-in defaults, written out.
+  EXPECT_EQ(s.bus.url, saccade.bus.url);
+  EXPECT_EQ(s.frames_in_flight, saccade.frames_in_flight);
+  EXPECT_EQ(s.attention.growth_max_m, saccade.attention.growth_max_m);
+  EXPECT_EQ(s.attention.max_targets, 1);
+  EXPECT_FALSE(s.attention.predict);  // off: the paper's behaviour
+  EXPECT_TRUE(s.models.empty());      // the one thing a user must set
+}
+
+TEST(DaemonSettings, PaperFileHoldsTables1And2) {
+  // Loaded over Saccade's defaults, configs/paper.yaml must bring back the paper's values.
+  DaemonSettings s;
+  RecognitionConfig config{s.recognition, s.fovea};
+  std::string error;
+  ASSERT_TRUE(LoadRecognitionConfig(kConfigs + "paper.yaml", &config, &error)) << error;
+  s.recognition = config.recognition;
+  s.fovea = config.fovea;
   const DaemonSettings paper = PaperDefaults();
+  ExpectSameRecognitionAndFovea(s, paper);
   const RecognitionOptions& r = s.recognition;
-  const RecognitionOptions table1;
-  EXPECT_EQ(r.scene_normal_neighbors, table1.scene_normal_neighbors);
+  EXPECT_FALSE(r.radii_from_model);
+  EXPECT_EQ(r.scene_normal_neighbors, 10);
   EXPECT_FLOAT_EQ(r.scene_keypoint_radius_m, 0.03f);
   EXPECT_FLOAT_EQ(r.scene_shot_radius_m, 0.02f);
   EXPECT_FLOAT_EQ(r.scene_lrf_radius_m, 0.015f);
@@ -36,13 +78,30 @@ TEST(DaemonSettings, ShippedFileHoldsThePaperDefaults) {
   EXPECT_TRUE(s.fovea.outer_min_corner_m.isApprox(Eigen::Vector3f(-2.9f, -1.9f, -1.3f)));
   EXPECT_FLOAT_EQ(s.fovea.keypoint_radius_0_m, 0.08f);
   EXPECT_FLOAT_EQ(s.fovea.keypoint_radius_m_m, 0.02f);
-  // The service part is the built-in defaults, written out.
-  EXPECT_EQ(s.bus.url, paper.bus.url);
-  EXPECT_EQ(s.frames_in_flight, paper.frames_in_flight);
-  EXPECT_EQ(s.attention.growth_max_m, paper.attention.growth_max_m);
-  EXPECT_EQ(s.attention.max_targets, 1);
-  EXPECT_FALSE(s.attention.predict);  // off: the paper's behaviour
-  EXPECT_TRUE(s.models.empty());      // the one thing a user must set
+}
+
+TEST(EvalConfigurations, EntriesStartFromTheFilesDefaults) {
+  const std::string path = testing::TempDir() + "defaults.yaml";
+  std::ofstream(path) << "defaults:\n"
+                         "  recognition: {radii_from_model: false, hough_bin_m: 0.03}\n"
+                         "  fovea: {levels_m: 3}\n"
+                         "configurations:\n"
+                         "  - {name: a, pipeline: plain}\n"
+                         "  - {name: b, pipeline: foveated, recognition: {hough_bin_m: 0.05}}\n";
+  std::vector<EvalConfiguration> configs;
+  std::string error;
+  ASSERT_TRUE(LoadEvalConfigurations(path, RecognitionConfig{}, &configs, &error)) << error;
+  ASSERT_EQ(configs.size(), 2u);
+  EXPECT_FALSE(configs[0].config.recognition.radii_from_model);
+  EXPECT_FLOAT_EQ(configs[0].config.recognition.hough_bin_m, 0.03f);
+  EXPECT_EQ(configs[0].config.fovea.levels_m, 3);
+  EXPECT_FALSE(configs[1].config.recognition.radii_from_model);
+  EXPECT_FLOAT_EQ(configs[1].config.recognition.hough_bin_m, 0.05f);  // its own key wins
+  EXPECT_EQ(configs[1].config.fovea.levels_m, 3);
+  // Nothing but defaults and configurations at the top.
+  std::ofstream(path) << "defaults: {}\nconfigurations: []\nextra: 1\n";
+  EXPECT_FALSE(LoadEvalConfigurations(path, RecognitionConfig{}, &configs, &error));
+  EXPECT_NE(error.find("at most 'defaults'"), std::string::npos) << error;
 }
 
 TEST(DaemonSettings, ShippedFileDocumentsEveryRecognitionAndFoveaKey) {
