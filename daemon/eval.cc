@@ -1,5 +1,6 @@
 // `saccade eval`: recognition configurations over a dataset with ground truth, scored with the
 // paper's rule (§5.3), written as CSV and Markdown tables and plotted with gnuplot.
+#include "attention/attention.h"
 #include "core/evaluation.h"
 #include "core/fail.h"
 #include "core/features.h"
@@ -52,6 +53,13 @@ struct Trial {
   RecognitionStats stats;
 };
 
+// The attention loop's run from one fovea offset: frames until a detection within 8 cm of the
+// truth (0: not before G reached G_max), and the false instances it saw on the way.
+struct Acquisition {
+  int frames = 0;
+  int false_instances = 0;
+};
+
 // DIR (a recorded folder: PCD files or depth images) or any source spec.
 std::string DatasetSpec(const std::string& dataset) {
   if (dataset.find(':') != std::string::npos) return dataset;
@@ -80,12 +88,14 @@ class Runner {
 
   // Runs `c` over every scene once per fovea offset from the truth (the model is described
   // once); trials come back per offset, then per scene. Each trial is run `repeat` times and
-  // the run of median time is kept (recognition is deterministic: only the time differs). False
-  // with `error` when the model cannot be described.
+  // the run of median time is kept (recognition is deterministic: only the time differs). With
+  // `acquisitions`, each offset also starts the attention loop (Acquire). False with `error`
+  // when the model cannot be described.
   bool Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
            const std::vector<Eigen::Vector3f>& offsets, std::vector<std::vector<Trial>>* trials,
-           std::string* error) const {
+           std::vector<std::vector<Acquisition>>* acquisitions, std::string* error) const {
     trials->assign(offsets.size(), {});
+    if (acquisitions) acquisitions->assign(offsets.size(), {});
     const RecognitionOptions& o = c.config.recognition;
     const bool is_stock = c.pipeline == "stock";
     // ReferenceModel is move-constructible only: built in place.
@@ -128,12 +138,47 @@ class Runner {
                          [](const Trial& a, const Trial& b) { return a.ms < b.ms; });
         Trial t = std::move(*median);
         (*trials)[k].push_back(std::move(t));
+        if (acquisitions && !is_stock)
+          (*acquisitions)[k].push_back(Acquire(*described[s.model], s, q, o));
       }
     }
     return true;
   }
 
  private:
+  // The daemon's attention loop (AttentionOptions' defaults: G grows by 0.1 m a lost frame to
+  // 1 m) started with the fovea at `start`'s offset from the truth, on the same frame again and
+  // again, as a robot that has lost a still object: the fovea follows what is detected and
+  // grows while nothing is.
+  Acquisition Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
+                      const RecognitionOptions& o) const {
+    Acquisition a;
+    Attention attention(AttentionOptions{}, q.fovea_m);
+    for (int frame = 1; attention.current().mode != AttentionMode::kFullScan; ++frame) {
+      const Fixation& f = attention.current();
+      q.fovea_m = f.fovea_m;
+      q.fovea.growth_m = Eigen::Vector3f::Constant(f.growth_m);
+      const RecognitionResult r = Recognize(model, *s.frame.cloud, q, o, parallel_);
+      std::vector<Sighting> sightings;
+      bool found = false;
+      for (const Detection& d : r.instances) {
+        const Eigen::Vector3f centre =
+            (d.model_to_scene * models_[s.model].centre.homogeneous()).head<3>();
+        sightings.push_back({centre, 0});
+        if ((centre - s.truth_m).norm() <= 0.08f)
+          found = true;
+        else
+          ++a.false_instances;
+      }
+      if (found) {
+        a.frames = frame;
+        break;
+      }
+      attention.Update(frame, frame / 30.0, sightings);
+    }
+    return a;
+  }
+
   const std::vector<EvalModel>& models_;
   const ParallelFor parallel_;
   const int repeat_;
@@ -376,6 +421,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   const std::vector<Eigen::Vector3f> sweep_offsets = SweepOffsets();
   std::vector<std::vector<Trial>> trials(configs.size());
   std::vector<std::vector<std::vector<Trial>>> swept(configs.size());
+  std::vector<std::vector<std::vector<Acquisition>>> acquired(configs.size());
   std::vector<double> mean_ms(configs.size());
   for (std::size_t c = 0; c < configs.size(); ++c) {
     const bool sweep =
@@ -383,7 +429,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     std::vector<std::vector<Trial>> per_offset;
     if (!runner.Run(configs[c], scenes,
                     sweep ? sweep_offsets : std::vector<Eigen::Vector3f>{Eigen::Vector3f::Zero()},
-                    &per_offset, &error))
+                    &per_offset, sweep ? &acquired[c] : nullptr, &error))
       return fail("configuration " + configs[c].name + ": " + error);
     trials[c] = per_offset.front();
     mean_ms[c] = MeanMs(trials[c]);
@@ -463,7 +509,9 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
 
   // Fig. 10: the fovea moved 0-35 cm from the object along x.
   std::ofstream sw(dir / "sweep.csv");
-  sw << "name,offset_m,tp,fp,mean_ms\n";
+  // With attention: scenes found within the loop's budget, mean frames it took them, and the
+  // false instances seen on the way.
+  sw << "name,offset_m,tp,fp,mean_ms,acquired,mean_frames,acquire_fp\n";
   for (const std::string& name : sweep_names) {
     const auto c = static_cast<std::size_t>(
         std::find_if(configs.begin(), configs.end(),
@@ -471,8 +519,15 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
         configs.begin());
     for (std::size_t k = 0; k < sweep_offsets.size(); ++k) {
       const Totals t = Score(swept[c][k], scenes, 0.08f);
+      int found = 0, frames = 0, false_instances = 0;
+      for (const Acquisition& a : acquired[c][k]) {
+        found += a.frames > 0;
+        frames += a.frames;
+        false_instances += a.false_instances;
+      }
       sw << name << ',' << sweep_offsets[k].x() << ',' << t.tp << ',' << t.fp << ','
-         << MeanMs(swept[c][k]) << "\n";
+         << MeanMs(swept[c][k]) << ',' << found << ',' << (found ? double(frames) / found : 0.0)
+         << ',' << false_instances << "\n";
     }
   }
   csv.close(), md.close(), tr.close(), th.close(), sw.close();
@@ -498,7 +553,12 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
        << "if (strlen(swept) > 0) { plot for [n in swept] 'sweep.csv' using ($2*100):"
           "(strcol(1) eq n ? $3 : 1/0) with linespoints title n } else { "
           "set xrange [0:35]; set yrange [0:1]; set label 'no sweep (--sweep)' at graph 0.4,0.5;"
-          " plot 2 notitle }\n";
+          " plot 2 notitle }\n"
+       << "set output 'sweep_attention.png'\n"
+       << "set ylabel 'frames until found, attention loop (mean over scenes found)'\n"
+       << "if (strlen(swept) > 0) { plot for [n in swept] 'sweep.csv' using ($2*100):"
+          "(strcol(1) eq n && $6 > 0 ? $7 : 1/0) with linespoints title n } else { "
+          "plot 2 notitle }\n";
     gp.close();
     const std::string command = "cd '" + dir.string() + "' && gnuplot plot.gp 2> plot.log";
     if (std::system(command.c_str()) != 0)
@@ -507,7 +567,10 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   }
   out << "written to " << dir.string()
       << "/: table.csv table.md trials.csv thresholds.csv sweep.csv"
-      << (args.Has("no-plots") ? "" : " thresholds_tp.png thresholds_fp.png sweep.png") << "\n";
+      << (args.Has("no-plots")
+              ? ""
+              : " thresholds_tp.png thresholds_fp.png sweep.png sweep_attention.png")
+      << "\n";
   return kExitOk;
 }
 

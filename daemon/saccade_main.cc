@@ -35,8 +35,8 @@ commands:
             run recognition configurations over frames with ground truth (or over labelled
             cross-capture cases); write Table 7 style tables (CSV, Markdown), every trial's
             counts and stage times, TP/FP against the distance threshold, the fovea-distance
-            sweep, and their PNG plots (gnuplot); --repeat N times each trial N times and
-            keeps the median
+            sweep (one frame, and frames until the attention loop finds the object), and their
+            PNG plots (gnuplot); --repeat N times each trial N times and keeps the median
   demo      [--seed N]
             render a synthetic Kinect scene and find in it a target modelled from another
             capture; exit 1 when the target is not found

@@ -164,8 +164,9 @@ TEST(Cli, EvalWritesTablesCurvesSweepAndPlots) {
       "synthetic:ball --model-centre 0,0,0 --sphere-radius 0.08 --configs " +
       configs + " --out " + dir + " --sweep saccade --reference 9");
   ASSERT_EQ(r.code, 0) << r.out;
-  for (const char* name : {"table.csv", "table.md", "thresholds.csv", "sweep.csv", "plot.gp",
-                           "thresholds_tp.png", "thresholds_fp.png", "sweep.png"}) {
+  for (const char* name :
+       {"table.csv", "table.md", "thresholds.csv", "sweep.csv", "plot.gp", "thresholds_tp.png",
+        "thresholds_fp.png", "sweep.png", "sweep_attention.png"}) {
     std::ifstream f(dir + "/" + name, std::ios::binary | std::ios::ate);
     EXPECT_TRUE(f.good() && f.tellg() > 0) << name;
   }
@@ -203,8 +204,27 @@ TEST(Cli, EvalWritesTablesCurvesSweepAndPlots) {
       EXPECT_EQ(std::stoi(tp), tp_at_8cm[name]) << name;
     }
   }
+  // sweep.csv: 0-35 cm by 5. On the object the first frame finds it; 35 cm off, the attention
+  // loop has to grow the fovea for a frame or more before it does, and sees nothing false.
   std::ifstream sweep(dir + "/sweep.csv");
-  EXPECT_EQ(std::count(std::istreambuf_iterator<char>(sweep), {}, '\n'), 1 + 8);  // 0-35 cm by 5
+  std::getline(sweep, line);
+  EXPECT_EQ(line, "name,offset_m,tp,fp,mean_ms,acquired,mean_frames,acquire_fp");
+  std::vector<std::vector<std::string>> offsets;
+  while (std::getline(sweep, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 8u) << line;
+    offsets.push_back(cells);
+  }
+  ASSERT_EQ(offsets.size(), 8u);
+  EXPECT_EQ(offsets.front()[1], "0");
+  EXPECT_EQ(offsets.front()[5], offsets.front()[2]);  // found on the first frame...
+  EXPECT_EQ(offsets.front()[6], "1");
+  EXPECT_EQ(offsets.back()[2], "0");  // ...35 cm off not in one frame...
+  EXPECT_EQ(offsets.back()[5], "2");  // ...but by the attention loop
+  EXPECT_GT(std::stod(offsets.back()[6]), 1.0);
+  EXPECT_EQ(offsets.back()[7], "0");
 }
 
 // The real milk scene as a one-frame dataset, its pose file as the truth: the gold standard
