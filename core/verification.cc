@@ -89,13 +89,16 @@ std::vector<float> Crop(const Cloud& scene, const std::optional<CameraIntrinsics
 // conversions) than the search itself, and ICP asks thousands of times per candidate.
 class NearestIndex {
  public:
+  // `xyz`: x, y, z of each point in turn, at least one point.
   explicit NearestIndex(std::vector<float> xyz)
       : xyz_(std::move(xyz)),
         index_(flann::Matrix<float>(xyz_.data(), xyz_.size() / 3, 3),
                flann::KDTreeSingleIndexParams(10, false)) {
     index_.buildIndex();
   }
-  std::size_t size() const { return xyz_.size() / 3; }
+  NearestIndex(const NearestIndex&) = delete;  // the index points into xyz_
+  NearestIndex& operator=(const NearestIndex&) = delete;
+
   const float* point(int i) const { return xyz_.data() + 3 * i; }
 
   // The nearest point's index and squared distance; index -1 when none is within
@@ -159,9 +162,10 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   std::vector<int> crop_index;
   // Sampled half an inlier distance apart, the nearest scene point is at most ~0.35 inlier
   // distances farther than on the full grid: a model point on the surface stays an inlier.
-  const NearestIndex crop(Crop(scene, k, centre, model.radius_m + o.icp_max_distance_m + 0.01f,
-                               o.inlier_distance_m / 2, &crop_index));
-  if (crop.size() < 10) return c;
+  std::vector<float> xyz = Crop(scene, k, centre, model.radius_m + o.icp_max_distance_m + 0.01f,
+                                o.inlier_distance_m / 2, &crop_index);
+  if (xyz.size() < 3 * 10) return c;
+  const NearestIndex crop(std::move(xyz));
   const std::size_t n_points = model.points.size();
   // ICP aligns an even subset of the points; all of them are counted afterwards.
   const std::size_t icp_step = std::max<std::size_t>(1, n_points / std::max(1, o.icp_points));
