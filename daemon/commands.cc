@@ -362,7 +362,7 @@ int RunDemo(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   if (!seed) return Usage(err, "demo", "--seed must be a whole number >= 1");
   const CameraIntrinsics kinect;
   const CrossCaptureCase demo = MakeDemoCase(static_cast<std::uint32_t>(*seed), kinect);
-  const RecognitionOptions options = RecognitionOptions::CrossCapture();
+  const RecognitionOptions options;  // Saccade's defaults: radii fitted to the model
   auto model = DescribeModel(demo.model, options, &error);
   if (!model) {
     err << "saccade demo: synthetic model: " << error << "\n";
