@@ -19,8 +19,9 @@ constexpr const char* kUsage =
                 [--lcm-url URL]
 
 Tracks a known object in a depth stream and publishes, per frame, its detections and the
-attention loop's fixation over LCM (docs/LCM.md). Without --config the paper's defaults apply;
-the flags override the file. SIGTERM/SIGINT: finish the frames in flight and exit 0. SIGHUP:
+attention loop's fixation over LCM (docs/LCM.md). Without --config Saccade's defaults apply
+(configs/saccaded.yaml writes them out; configs/paper.yaml holds the paper's); the flags
+override the file. SIGTERM/SIGINT: finish the frames in flight and exit 0. SIGHUP:
 reload the config file (a bad one is reported and the running one kept).
 
 exit codes: 0 stopped cleanly or the source ended, 1 the source, a model or LCM failed,
