@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 
@@ -102,6 +103,26 @@ TEST(EvalConfigurations, EntriesStartFromTheFilesDefaults) {
   std::ofstream(path) << "defaults: {}\nconfigurations: []\nextra: 1\n";
   EXPECT_FALSE(LoadEvalConfigurations(path, RecognitionConfig{}, &configs, &error));
   EXPECT_NE(error.find("at most 'defaults'"), std::string::npos) << error;
+}
+
+TEST(EvalConfigurations, ShippedSaccadeRowsAreTheBuiltInDefaults) {
+  // The rows named "saccade" in the shipped eval files measure the defaults, whatever the
+  // file's own defaults section says.
+  for (const char* file : {"paper-configs.yaml", "cross-capture-configs.yaml"}) {
+    SCOPED_TRACE(file);
+    std::vector<EvalConfiguration> configs;
+    std::string error;
+    ASSERT_TRUE(LoadEvalConfigurations(kConfigs + file, RecognitionConfig{}, &configs, &error))
+        << error;
+    const auto row = std::find_if(configs.begin(), configs.end(),
+                                  [](const EvalConfiguration& c) { return c.name == "saccade"; });
+    ASSERT_NE(row, configs.end());
+    EXPECT_EQ(row->pipeline, "foveated");
+    DaemonSettings measured;
+    measured.recognition = row->config.recognition;
+    measured.fovea = row->config.fovea;
+    ExpectSameRecognitionAndFovea(measured, DaemonSettings{});
+  }
 }
 
 TEST(DaemonSettings, ShippedFileDocumentsEveryRecognitionAndFoveaKey) {
