@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <numeric>
+#include <type_traits>
 #include <unordered_map>
 
 namespace saccade {
@@ -113,9 +114,45 @@ RecognitionOptions RadiiForModel(const RecognitionOptions& options, const ModelS
 // ---------------------------------------------------------------------------------------------
 // Model
 
+namespace {
+
+// Squared Euclidean distance for FLANN over SHOT descriptors. FLANN's own L2 sums into one
+// accumulator, a serial chain the compiler may not vectorize (float addition does not
+// reassociate); Eigen's sum keeps several partial sums in vector registers. Other element
+// types (the k-means clustering's double centres) take the plain loop.
+struct ShotL2 {
+  typedef bool is_kdtree_distance;
+  typedef float ElementType;
+  typedef float ResultType;
+
+  template <typename Iterator1, typename Iterator2>
+  ResultType operator()(Iterator1 a, Iterator2 b, std::size_t size, ResultType = -1) const {
+    using A = std::remove_cv_t<std::remove_pointer_t<Iterator1>>;
+    using B = std::remove_cv_t<std::remove_pointer_t<Iterator2>>;
+    if constexpr (std::is_pointer_v<Iterator1> && std::is_pointer_v<Iterator2> &&
+                  std::is_same_v<A, float> && std::is_same_v<B, float>) {
+      const Eigen::Map<const Eigen::VectorXf> va(a, Eigen::Index(size)), vb(b, Eigen::Index(size));
+      return (va - vb).squaredNorm();
+    } else {
+      ResultType sum = 0;
+      for (std::size_t i = 0; i < size; ++i) {
+        const ResultType d = ResultType(a[i]) - ResultType(b[i]);
+        sum += d * d;
+      }
+      return sum;
+    }
+  }
+  template <typename U, typename V>
+  ResultType accum_dist(const U& a, const V& b, int) const {
+    return ResultType((a - b) * (a - b));
+  }
+};
+
+}  // namespace
+
 struct ModelDescription::Index {
   std::vector<float> data;  // owned copy the FLANN matrix points into
-  std::unique_ptr<flann::KMeansIndex<flann::L2<float>>> kmeans;
+  std::unique_ptr<flann::KMeansIndex<ShotL2>> kmeans;
 };
 
 ModelDescription::~ModelDescription() = default;
@@ -182,7 +219,7 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
   // which we seed, so the index (and every match) is the same on every run. (FLANN's
   // randomized kd-trees shuffle with std::random_device and cannot be made repeatable.)
   std::srand(options.match_seed);
-  out.index_->kmeans = std::make_unique<flann::KMeansIndex<flann::L2<float>>>(
+  out.index_->kmeans = std::make_unique<flann::KMeansIndex<ShotL2>>(
       data, flann::KMeansIndexParams(options.match_branching, 11, flann::FLANN_CENTERS_KMEANSPP));
   out.index_->kmeans->buildIndex();
   out.checks_ = options.match_checks;
