@@ -54,7 +54,7 @@ struct Trial {
 };
 
 // The attention loop's run from one fovea offset: frames until a detection within 8 cm of the
-// truth (0: not before G reached G_max), and the false instances it saw on the way.
+// truth (0: not before it gave up), and the false instances it saw on the way.
 struct Acquisition {
   int frames = 0;
   int false_instances = 0;
@@ -136,8 +136,7 @@ class Runner {
         auto median = runs.begin() + runs.size() / 2;
         std::nth_element(runs.begin(), median, runs.end(),
                          [](const Trial& a, const Trial& b) { return a.ms < b.ms; });
-        Trial t = std::move(*median);
-        (*trials)[k].push_back(std::move(t));
+        (*trials)[k].push_back(std::move(*median));
         if (acquisitions && !is_stock)
           (*acquisitions)[k].push_back(Acquire(*described[s.model], s, q, o));
       }
@@ -147,14 +146,17 @@ class Runner {
 
  private:
   // The daemon's attention loop (AttentionOptions' defaults: G grows by 0.1 m a lost frame to
-  // 1 m) started with the fovea at `start`'s offset from the truth, on the same frame again and
-  // again, as a robot that has lost a still object: the fovea follows what is detected and
-  // grows while nothing is.
+  // 1 m) started with the fovea where `q` puts it, on the same frame again and again, as a
+  // robot that has lost a still object: the fovea follows what is detected and grows while
+  // nothing is. It gives up when G passes G_max, or after a second's worth of frames (it may
+  // be following something false).
   Acquisition Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
                       const RecognitionOptions& o) const {
+    constexpr int kMaxFrames = 30;
     Acquisition a;
     Attention attention(AttentionOptions{}, q.fovea_m);
-    for (int frame = 1; attention.current().mode != AttentionMode::kFullScan; ++frame) {
+    for (int frame = 1; frame <= kMaxFrames && attention.current().mode != AttentionMode::kFullScan;
+         ++frame) {
       const Fixation& f = attention.current();
       q.fovea_m = f.fovea_m;
       q.fovea.growth_m = Eigen::Vector3f::Constant(f.growth_m);
