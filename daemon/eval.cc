@@ -127,45 +127,54 @@ class Runner {
           Trial t;
           t.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                      .count();
-          for (const Detection& d : r.instances)
-            t.centres.push_back(
-                (d.model_to_scene * models_[s.model].centre.homogeneous()).head<3>());
+          t.centres = Centres(r, s);
           t.stats = r.stats;
           runs.push_back(std::move(t));
         }
         auto median = runs.begin() + runs.size() / 2;
         std::nth_element(runs.begin(), median, runs.end(),
                          [](const Trial& a, const Trial& b) { return a.ms < b.ms; });
-        (*trials)[k].push_back(std::move(*median));
         if (acquisitions && !is_stock)
-          (*acquisitions)[k].push_back(Acquire(*described[s.model], s, q, o));
+          (*acquisitions)[k].push_back(Acquire(*described[s.model], s, q, o, median->centres));
+        (*trials)[k].push_back(std::move(*median));
       }
     }
     return true;
   }
 
  private:
+  // Each instance's scored point (the model's centre) in the scene.
+  std::vector<Eigen::Vector3f> Centres(const RecognitionResult& r, const Scene& s) const {
+    std::vector<Eigen::Vector3f> out;
+    for (const Detection& d : r.instances)
+      out.push_back((d.model_to_scene * models_[s.model].centre.homogeneous()).head<3>());
+    return out;
+  }
+
   // The daemon's attention loop (AttentionOptions' defaults: G grows by 0.1 m a lost frame to
   // 1 m) started with the fovea where `q` puts it, on the same frame again and again, as a
   // robot that has lost a still object: the fovea follows what is detected and grows while
   // nothing is. It gives up when G passes G_max, or after a second's worth of frames (it may
-  // be following something false).
+  // be following something false). `first` is what the trial from `q` found: the loop's first
+  // frame when its fovea is the same.
   Acquisition Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
-                      const RecognitionOptions& o) const {
+                      const RecognitionOptions& o,
+                      const std::vector<Eigen::Vector3f>& first) const {
     constexpr int kMaxFrames = 30;
     Acquisition a;
     Attention attention(AttentionOptions{}, q.fovea_m);
     for (int frame = 1; frame <= kMaxFrames && attention.current().mode != AttentionMode::kFullScan;
          ++frame) {
       const Fixation& f = attention.current();
+      const Eigen::Vector3f growth = Eigen::Vector3f::Constant(f.growth_m);
+      const bool as_trial = frame == 1 && q.fovea.growth_m == growth;  // fovea_m is q's too
       q.fovea_m = f.fovea_m;
-      q.fovea.growth_m = Eigen::Vector3f::Constant(f.growth_m);
-      const RecognitionResult r = Recognize(model, *s.frame.cloud, q, o, parallel_);
+      q.fovea.growth_m = growth;
+      const std::vector<Eigen::Vector3f> centres =
+          as_trial ? first : Centres(Recognize(model, *s.frame.cloud, q, o, parallel_), s);
       std::vector<Sighting> sightings;
       bool found = false;
-      for (const Detection& d : r.instances) {
-        const Eigen::Vector3f centre =
-            (d.model_to_scene * models_[s.model].centre.homogeneous()).head<3>();
+      for (const Eigen::Vector3f& centre : centres) {
         sightings.push_back({centre, 0});
         if ((centre - s.truth_m).norm() <= 0.08f)
           found = true;
@@ -386,12 +395,8 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     if (!n) return Usage(err, "eval", "--frames expects a positive integer");
     max_frames = *n;
   }
-  int repeat = 1;
-  if (args.Has("repeat")) {
-    const auto n = Args::ParsePositiveInt(args.Get("repeat"));
-    if (!n) return Usage(err, "eval", "--repeat expects a positive integer");
-    repeat = *n;
-  }
+  const auto repeat = Args::ParsePositiveInt(args.Get("repeat", "1"));
+  if (!repeat) return Usage(err, "eval", "--repeat expects a positive integer");
   std::vector<std::string> sweep_names;
   if (args.Has("sweep")) {
     std::stringstream names(args.Get("sweep"));
@@ -417,7 +422,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) return fail(dir.string() + ": cannot create it (" + ec.message() + ")");
-  Runner runner(models, MakeTbbParallelFor(), repeat);
+  Runner runner(models, MakeTbbParallelFor(), *repeat);
   // Per configuration: the trials with the fovea on the truth, and for swept ones the Fig. 10
   // offsets too (the first of which is the truth itself).
   const std::vector<Eigen::Vector3f> sweep_offsets = SweepOffsets();

@@ -23,6 +23,14 @@ Cloud Load(const char* relative) {
   return cloud ? *cloud : Cloud{};
 }
 
+// The carton's true pose in the milk scene (a failure is reported).
+std::optional<Eigen::Matrix4f> MilkTruth() {
+  std::string error;
+  auto truth = LoadPose(testing::DataPath(kMilkPose), &error);
+  EXPECT_TRUE(truth) << error;
+  return truth;
+}
+
 // The model of `relative`, described with the default options (a failure is reported).
 std::optional<ModelDescription> Describe(const char* relative) {
   std::string error;
@@ -63,9 +71,8 @@ TEST_P(MilkScene, CutOutCartonIsFoundAtTheIdentity) {
 TEST_P(MilkScene, ModelInItsOwnFrameIsFoundAtTheTruePose) {
   SACCADE_REQUIRE_DATA(kScene);
   SACCADE_REQUIRE_DATA(kMilkModel);
-  std::string error;
-  const auto truth = LoadPose(testing::DataPath(kMilkPose), &error);
-  ASSERT_TRUE(truth) << error;
+  const auto truth = MilkTruth();
+  ASSERT_TRUE(truth);
   const auto model = Describe(kMilkModel);
   ASSERT_TRUE(model);
   SceneQuery q;
@@ -106,9 +113,9 @@ TEST(MilkSceneFoveated, FoveaKeepsFarFewerPointsThanTheScene) {
 TEST(ReferencePipeline, GoldStandardFindsTheCarton) {
   SACCADE_REQUIRE_DATA(kScene);
   SACCADE_REQUIRE_DATA(kMilkModel);
+  const auto truth = MilkTruth();
+  ASSERT_TRUE(truth);
   std::string error;
-  const auto truth = LoadPose(testing::DataPath(kMilkPose), &error);
-  ASSERT_TRUE(truth) << error;
   RecognitionOptions gold;
   gold.scene_keypoint_radius_m = 0.03f;  // Table 1's r_ks keeps the test short
   const Cloud milk = Load(kMilkModel);
@@ -247,9 +254,9 @@ TEST(FitRadii, FollowTheModelsSizeAndPointSpacing) {
 TEST(FitRadii, MilkCartonIsFoundWithRadiiFittedToItsModel) {
   SACCADE_REQUIRE_DATA(kScene);
   SACCADE_REQUIRE_DATA(kMilkModel);
+  const auto truth = MilkTruth();
+  ASSERT_TRUE(truth);
   std::string error;
-  const auto truth = LoadPose(testing::DataPath(kMilkPose), &error);
-  ASSERT_TRUE(truth) << error;
   RecognitionOptions o;
   o.radii_from_model = true;
   const auto model = DescribeModel(Load(kMilkModel), o, &error);

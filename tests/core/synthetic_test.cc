@@ -109,12 +109,9 @@ TEST(SyntheticKinect, CutModelIsInTheObjectFrame) {
 }
 
 // The demo's case, over several seeds: a model cut from one capture, found in another capture
-// where the target moved and turned among clutter; the one instance lies on the truth.
-// The same with Saccade's defaults (radii fitted to the model): foveated, the one instance on
-// the truth; plain over the whole frame, the best one on it (in this colourless frame other
-// instances elsewhere may pass verification too).
-TEST(SyntheticRecognition, TargetFoundAcrossCapturesWithTheDefaults) {
-  const RecognitionOptions options;
+// where the target moved and turned among clutter. Foveated, the one instance lies on the
+// truth; plain over the whole frame, the best one does, and with `plain_only_one` it is alone.
+void ExpectTargetFoundAcrossCaptures(const RecognitionOptions& options, bool plain_only_one) {
   for (std::uint32_t seed : {1u, 2u, 3u}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     const CrossCaptureCase c = MakeDemoCase(seed, kKinect);
@@ -123,13 +120,14 @@ TEST(SyntheticRecognition, TargetFoundAcrossCapturesWithTheDefaults) {
     ASSERT_TRUE(model) << error;
     const Eigen::Vector3f centre = c.truth * model->centroid();
     for (bool foveated : {true, false}) {
+      SCOPED_TRACE(foveated ? "foveated" : "plain");
       SceneQuery query;
       query.intrinsics = kKinect;
       query.foveated = foveated;
       query.fovea_m = centre + Eigen::Vector3f(0.05f, -0.03f, 0.04f);
       const RecognitionResult r = Recognize(*model, c.scene.cloud, query, options);
-      ASSERT_GE(r.instances.size(), 1u) << (foveated ? "foveated" : "plain");
-      if (foveated) {
+      ASSERT_GE(r.instances.size(), 1u);
+      if (foveated || plain_only_one) {
         EXPECT_EQ(r.instances.size(), 1u);
       }
       const PoseError e =
@@ -140,28 +138,15 @@ TEST(SyntheticRecognition, TargetFoundAcrossCapturesWithTheDefaults) {
   }
 }
 
+// Hand-set cross-capture radii.
 TEST(SyntheticRecognition, TargetFoundAcrossCapturesFoveatedAndPlain) {
-  const RecognitionOptions options = RecognitionOptions::CrossCapture();
-  for (std::uint32_t seed : {1u, 2u, 3u}) {
-    SCOPED_TRACE("seed " + std::to_string(seed));
-    const CrossCaptureCase c = MakeDemoCase(seed, kKinect);
-    std::string error;
-    const auto model = DescribeModel(c.model, options, &error);
-    ASSERT_TRUE(model) << error;
-    const Eigen::Vector3f centre = c.truth * model->centroid();
-    for (bool foveated : {true, false}) {
-      SceneQuery query;
-      query.intrinsics = kKinect;
-      query.foveated = foveated;
-      query.fovea_m = centre + Eigen::Vector3f(0.05f, -0.03f, 0.04f);
-      const RecognitionResult r = Recognize(*model, c.scene.cloud, query, options);
-      ASSERT_EQ(r.instances.size(), 1u) << (foveated ? "foveated" : "plain");
-      const PoseError e =
-          ComparePoses(r.instances[0].model_to_scene, c.truth.matrix(), model->centroid());
-      EXPECT_LT(e.translation_m, 0.01);
-      EXPECT_LT(e.rotation_deg, 3.0);
-    }
-  }
+  ExpectTargetFoundAcrossCaptures(RecognitionOptions::CrossCapture(), true);
+}
+
+// Saccade's defaults (radii fitted to the model): in this colourless frame plain search over
+// the whole frame may also keep instances elsewhere, which verification cannot tell apart.
+TEST(SyntheticRecognition, TargetFoundAcrossCapturesWithTheDefaults) {
+  ExpectTargetFoundAcrossCaptures(RecognitionOptions{}, false);
 }
 
 }  // namespace
