@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 #include <tuple>
@@ -24,6 +25,57 @@ SceneScore ScoreScene(const std::vector<Eigen::Vector3f>& detected_m,
   score.true_positives = within > 0 ? 1 : 0;
   score.false_positives = static_cast<int>(detected_m.size()) - within;
   return score;
+}
+
+Interval WilsonInterval(int successes, int n, double z) {
+  if (n <= 0) return {};
+  const double p = double(successes) / n, z2 = z * z;
+  const double centre = (p + z2 / (2 * n)) / (1 + z2 / n);
+  const double half = z / (1 + z2 / n) * std::sqrt(p * (1 - p) / n + z2 / (4.0 * n * n));
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+double SymmetricPoseDistance(const Eigen::Matrix4f& estimate, const Eigen::Matrix4f& truth,
+                             const std::vector<Eigen::Vector3f>& points) {
+  if (points.empty()) return 0;
+  std::vector<Eigen::Vector3f> placed;
+  placed.reserve(points.size());
+  for (const Eigen::Vector3f& p : points) placed.push_back((truth * p.homogeneous()).head<3>());
+  double sum = 0;
+  for (const Eigen::Vector3f& p : points) {
+    const Eigen::Vector3f q = (estimate * p.homogeneous()).head<3>();
+    float best = std::numeric_limits<float>::infinity();
+    for (const Eigen::Vector3f& t : placed) best = std::min(best, (q - t).squaredNorm());
+    sum += std::sqrt(double(best));
+  }
+  return sum / double(points.size());
+}
+
+const char* CaseStageName(CaseStage s) {
+  switch (s) {
+    case CaseStage::kFound: return "found";
+    case CaseStage::kNoCorrectCorrespondence: return "no_correct_correspondence";
+    case CaseStage::kNoHypothesis: return "no_hypothesis_near_truth";
+    case CaseStage::kNotVerified: return "true_hypothesis_not_verified";
+    case CaseStage::kRejected: return "true_hypothesis_rejected";
+    case CaseStage::kOutranked: return "outranked_by_false";
+  }
+  return "?";
+}
+
+CaseStage DiagnoseCase(const CaseEvidence& e, bool has_truth_pose) {
+  if (e.found) return CaseStage::kFound;
+  if (e.true_hypotheses.empty())
+    return has_truth_pose && e.correct_correspondences < 3 ? CaseStage::kNoCorrectCorrespondence
+                                                           : CaseStage::kNoHypothesis;
+  const auto any = [&](Verdict v) {
+    return std::find(e.true_hypotheses.begin(), e.true_hypotheses.end(), v) !=
+           e.true_hypotheses.end();
+  };
+  if (any(Verdict::kTakenByBetter) || any(Verdict::kKept)) return CaseStage::kOutranked;
+  if (any(Verdict::kNoFit) || any(Verdict::kFlat) || any(Verdict::kColour))
+    return CaseStage::kRejected;
+  return CaseStage::kNotVerified;
 }
 
 bool SphereFitOptions::IsValid(std::string* error) const {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/types.h"
+#include "core/verification.h"
 
 #include <cstdint>
 #include <optional>
@@ -23,6 +24,44 @@ struct SceneScore {
 /// Precondition: threshold_m > 0.
 SceneScore ScoreScene(const std::vector<Eigen::Vector3f>& detected_m,
                       const Eigen::Vector3f& truth_m, float threshold_m = 0.08f);
+
+/// A binomial proportion's 95% Wilson score interval, [low, high] in [0, 1]; [0, 1] when n is 0.
+struct Interval {
+  double low = 0, high = 1;
+};
+Interval WilsonInterval(int successes, int n, double z = 1.96);
+
+/// The symmetric average distance of two poses of the same points (ADD-S, Hinterstoisser et al.
+/// 2012): the mean, over `points` (model frame) placed by `estimate`, of the distance to the
+/// nearest of the points placed by `truth`. It does not penalize a turn that maps the object
+/// onto itself (a can about its axis). Metres; 0 for no points.
+double SymmetricPoseDistance(const Eigen::Matrix4f& estimate, const Eigen::Matrix4f& truth,
+                             const std::vector<Eigen::Vector3f>& points);
+
+/// Where a case's true instance was lost, in the pipeline's order: the first stage that no
+/// longer held it.
+enum class CaseStage {
+  kFound,                    // a reported instance is within the rule's distance of the truth
+  kNoCorrectCorrespondence,  // fewer than 3 descriptor matches agree with the true pose
+  kNoHypothesis,             // grouping proposed nothing near the truth
+  kNotVerified,              // a true hypothesis ranked below verification's candidates
+  kRejected,                 // verification's checks rejected every true hypothesis
+  kOutranked,                // a true hypothesis passed, but a false one took its place
+};
+const char* CaseStageName(CaseStage s);
+
+/// What a case's run looked like from the truth's side.
+struct CaseEvidence {
+  int correct_correspondences = 0;  // matches whose scene point the true pose explains
+  /// Verification's verdict on each hypothesis near the truth (model centre within the rule's
+  /// distance), best-voted first; empty when none was near.
+  std::vector<Verdict> true_hypotheses;
+  bool found = false;
+};
+
+/// The stage a case was lost at (kFound when found). Correspondences count only when given a
+/// true pose; without one the first stage is judged by the hypotheses.
+CaseStage DiagnoseCase(const CaseEvidence& evidence, bool has_truth_pose);
 
 struct SphereFitOptions {
   float min_radius_m = 0.03f;  // spheres outside [min, max] are not considered

@@ -486,6 +486,8 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
     if (nearest[i].first >= 0 && nearest[i].second < options.max_descriptor_sqr_distance)
       correspondences.emplace_back(nearest[i].first, static_cast<int>(i));
   stats.correspondences = correspondences.size();
+  for (const auto& [m, d] : correspondences)
+    result.correspondences.emplace_back(model.descriptors().keypoint[m], scene_desc.keypoint[d]);
   stats.stage_ms.emplace_back("match", MsSince(t));
 
   // 5. Hough voting and pose per instance.
@@ -493,6 +495,7 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   result.instances = HoughGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc,
                                 scene, correspondences, options);
   stats.hypotheses = result.instances.size();
+  result.hypotheses = result.instances;
   stats.stage_ms.emplace_back("group", MsSince(t));
 
   // 6. Keep the hypotheses the scene confirms, refined.
@@ -500,7 +503,8 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   if (options.verify.enabled)
     result.instances = VerifyInstances(model.verification(), model.centroid(), scene,
                                        organized ? intrinsics : std::nullopt,
-                                       std::move(result.instances), options.verify, parallel_for);
+                                       std::move(result.instances), options.verify, parallel_for,
+                                       &result.verdicts);
   stats.stage_ms.emplace_back("verify", MsSince(t));
   stats.stage_ms.emplace_back("total", MsSince(t_total));
   return result;

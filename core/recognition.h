@@ -155,7 +155,13 @@ struct RecognitionStats {
 };
 
 struct RecognitionResult {
-  std::vector<Detection> instances;  // by votes, most first
+  std::vector<Detection> instances;  // verified: best first; unverified: by votes, most first
+  /// What grouping proposed before verification (by votes, most first; the same as `instances`
+  /// when verification is off): for evaluations that ask where a miss was lost.
+  std::vector<Detection> hypotheses;
+  std::vector<Verdict> verdicts;  // verification's, one per hypothesis; empty when off
+  /// Every descriptor match below d²_max as (model point index, scene point index).
+  std::vector<std::pair<int, int>> correspondences;
   RecognitionStats stats;
   std::optional<FoveaGeometry> fovea;  // set when foveated
 };

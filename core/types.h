@@ -56,6 +56,9 @@ struct Detection {
   float fitness = -1;
   float coverage = -1;
   float colour_agreement = -1;
+  /// How likely the instance is to be the object, in [0, 1], from its verification figures
+  /// (calibrated on the cross-capture benchmark, docs/RESULTS.md); -1 when not verified.
+  float confidence = -1;
   /// (model keypoint index, scene keypoint index) pairs behind this instance.
   std::vector<std::pair<int, int>> correspondences;
 };

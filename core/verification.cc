@@ -222,6 +222,18 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
 
 }  // namespace
 
+const char* VerdictName(Verdict v) {
+  switch (v) {
+    case Verdict::kKept: return "kept";
+    case Verdict::kNotChecked: return "not_checked";
+    case Verdict::kNoFit: return "no_fit";
+    case Verdict::kFlat: return "flat";
+    case Verdict::kColour: return "colour";
+    case Verdict::kTakenByBetter: return "taken_by_better";
+  }
+  return "?";
+}
+
 VerificationModel MakeVerificationModel(const Cloud& model,
                                         const std::vector<Eigen::Vector3f>& normals,
                                         int max_points) {
@@ -250,9 +262,15 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
                                        const std::optional<CameraIntrinsics>& intrinsics,
                                        std::vector<Detection> instances,
                                        const VerificationOptions& options,
-                                       const ParallelFor& parallel_for) {
-  if (model.points.empty() || instances.empty()) return {};
-  const bool colour = options.min_colour_agreement > 0 && model.coloured && HasColour(scene);
+                                       const ParallelFor& parallel_for,
+                                       std::vector<Verdict>* verdicts) {
+  std::vector<Verdict> verdict(instances.size(), Verdict::kNotChecked);
+  if (model.points.empty() || instances.empty()) {
+    if (verdicts) *verdicts = std::move(verdict);
+    return {};
+  }
+  // Colour agreement is measured whenever both clouds have colour; it gates only when asked to.
+  const bool colour = model.coloured && HasColour(scene);
   if (int(instances.size()) > options.max_candidates) instances.resize(options.max_candidates);
   std::vector<Check> checks(instances.size());
   parallel_for(instances.size(), [&](std::size_t begin, std::size_t end) {
@@ -270,17 +288,22 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
     Detection& d = instances[i];
     d.fitness = c.inliers ? float(c.inliers) / float(c.inliers + c.against) : 0.0f;
     d.coverage = float(c.inliers) / float(model.points.size());
+    verdict[i] = Verdict::kNoFit;
     if (d.fitness < options.min_fitness || d.coverage < options.min_coverage) continue;
+    verdict[i] = Verdict::kFlat;
     if (c.thickness < options.min_depth_ratio * model.thickness_m) continue;
+    verdict[i] = Verdict::kColour;
     if (colour) {
       ColourHistogram seen{};
       for (int j : c.explained) AddColour(scene[j], &seen);
       Normalize(&seen);
       d.colour_agreement = Intersection(model_colour, seen);
-      if (d.colour_agreement < options.min_colour_agreement) continue;
+      if (options.min_colour_agreement > 0 && d.colour_agreement < options.min_colour_agreement)
+        continue;
     }
     d.model_to_scene = c.pose;
     d.centroid_m = (c.pose * vote_point.homogeneous()).head<3>();
+    verdict[i] = Verdict::kTakenByBetter;
     order.push_back(i);
   }
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -306,8 +329,10 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
     taken.insert(taken.end(), c.explained.begin(), c.explained.end());
     std::sort(taken.begin(), taken.end());
     centres.push_back(centre);
+    verdict[i] = Verdict::kKept;
     out.push_back(std::move(instances[i]));
   }
+  if (verdicts) *verdicts = std::move(verdict);
   return out;
 }
 

@@ -57,17 +57,29 @@ VerificationModel MakeVerificationModel(const Cloud& model,
                                         const std::vector<Eigen::Vector3f>& normals,
                                         int max_points);
 
+/// Why verification kept or dropped a candidate, in the order the checks run.
+enum class Verdict {
+  kKept,
+  kNotChecked,     // beyond max_candidates
+  kNoFit,          // fitness or coverage too low
+  kFlat,           // the points on the surface are flatter than the model
+  kColour,         // the colours of the explained scene points disagree
+  kTakenByBetter,  // a better instance already explains its points or overlaps it
+};
+const char* VerdictName(Verdict v);
+
 /// Refines and filters `instances` (poses of the model in `scene`), returning the kept ones,
 /// best first, each with its fitness, coverage and colour agreement set. With intrinsics (an
 /// organized scene) model points that face the camera and would stand in front of the seen
 /// surface, or just behind it (sunk into a surface rather than hidden by something), count
 /// against an instance; without them only distances to the scene count. `vote_point` (model
-/// frame) is where centroid_m is.
+/// frame) is where centroid_m is. `verdicts`, when given, gets one verdict per input instance.
 std::vector<Detection> VerifyInstances(const VerificationModel& model,
                                        const Eigen::Vector3f& vote_point, const Cloud& scene,
                                        const std::optional<CameraIntrinsics>& intrinsics,
                                        std::vector<Detection> instances,
                                        const VerificationOptions& options,
-                                       const ParallelFor& parallel_for = SerialFor);
+                                       const ParallelFor& parallel_for = SerialFor,
+                                       std::vector<Verdict>* verdicts = nullptr);
 
 }  // namespace saccade

@@ -9,6 +9,7 @@
 #include "core/segmentation.h"
 #include "daemon/args.h"
 #include "daemon/commands.h"
+#include "daemon/eval_report.h"
 #include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"
 #include "io/config.h"
@@ -22,7 +23,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <functional>
 #include <map>
+#include <random>
 #include <ostream>
 #include <sstream>
 
@@ -30,35 +33,10 @@ namespace saccade {
 namespace {
 
 namespace fs = std::filesystem;
-
-// One frame of the dataset and what is true of it.
-struct Scene {
-  Frame frame;
-  Eigen::Vector3f truth_m = Eigen::Vector3f::Zero();  // the generator's (or recording's) centre
-  std::optional<Eigen::Vector3f> sphere_truth_m;      // the RANSAC sphere fit's centre
-  std::size_t model = 0;                              // which model is searched in it
-  std::string name;                                   // the case's name, or the frame number
-};
-
-// A model and the point of it whose place in the scene is scored.
-struct EvalModel {
-  Cloud cloud;
-  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
-};
-
-// What one configuration found in one frame, with the fovea at one offset from the truth.
-struct Trial {
-  double ms = 0;
-  std::vector<Eigen::Vector3f> centres;  // each instance's model centre in the scene
-  RecognitionStats stats;
-};
-
-// The attention loop's run from one fovea offset: frames until a detection within 8 cm of the
-// truth (0: not before it gave up), and the false instances it saw on the way.
-struct Acquisition {
-  int frames = 0;
-  int false_instances = 0;
-};
+using eval::Acquisition;
+using eval::EvalModel;
+using eval::Scene;
+using eval::Trial;
 
 // DIR (a recorded folder: PCD files or depth images) or any source spec.
 std::string DatasetSpec(const std::string& dataset) {
@@ -81,21 +59,33 @@ std::vector<Eigen::Vector3f> SweepOffsets() {
   return out;
 }
 
+// Protocol (b)'s fovea offset for case i: 15 cm in a random direction, seeded by the case's
+// place in the file (uniform on the sphere: a normalized Gaussian triple).
+Eigen::Vector3f OffObject(std::size_t i) {
+  std::mt19937 rng(1000 + static_cast<unsigned>(i));
+  std::normal_distribution<float> n(0, 1);
+  Eigen::Vector3f d(n(rng), n(rng), n(rng));
+  return 0.15f * d.normalized();
+}
+
 class Runner {
  public:
   Runner(const std::vector<EvalModel>& models, ParallelFor parallel, int repeat)
       : models_(models), parallel_(std::move(parallel)), repeat_(repeat) {}
 
-  // Runs `c` over every scene once per fovea offset from the truth (the model is described
-  // once); trials come back per offset, then per scene. Each trial is run `repeat` times and
-  // the run of median time is kept (recognition is deterministic: only the time differs). With
-  // `acquisitions`, each offset also starts the attention loop (Acquire). False with `error`
-  // when the model cannot be described.
-  bool Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
-           const std::vector<Eigen::Vector3f>& offsets, std::vector<std::vector<Trial>>* trials,
+  // Where the fovea is for placement k of scene i (camera frame, metres).
+  using FoveaPlacement = std::function<Eigen::Vector3f(std::size_t k, std::size_t i)>;
+
+  // Runs `c` over every scene once per fovea placement (the model is described once); trials
+  // come back per placement, then per scene. Each trial is run `repeat` times and the run of
+  // median time is kept (recognition is deterministic: only the time differs). With
+  // `acquisitions`, each placement also starts the attention loop (Acquire). False with
+  // `error` when the model cannot be described.
+  bool Run(const EvalConfiguration& c, const std::vector<Scene>& scenes, std::size_t placements,
+           const FoveaPlacement& fovea, std::vector<std::vector<Trial>>* trials,
            std::vector<std::vector<Acquisition>>* acquisitions, std::string* error) const {
-    trials->assign(offsets.size(), {});
-    if (acquisitions) acquisitions->assign(offsets.size(), {});
+    trials->assign(placements, {});
+    if (acquisitions) acquisitions->assign(placements, {});
     const RecognitionOptions& o = c.config.recognition;
     const bool is_stock = c.pipeline == "stock";
     // ReferenceModel is move-constructible only: built in place.
@@ -110,12 +100,12 @@ class Runner {
       }
       if (!stock[m] && !described[m]) return false;
     }
-    for (std::size_t k = 0; k < offsets.size(); ++k) {
-      const Eigen::Vector3f& offset = offsets[k];
-      for (const Scene& s : scenes) {
+    for (std::size_t k = 0; k < placements; ++k) {
+      for (std::size_t i = 0; i < scenes.size(); ++i) {
+        const Scene& s = scenes[i];
         SceneQuery q;
         q.foveated = c.pipeline == "foveated";
-        q.fovea_m = s.truth_m + offset;
+        q.fovea_m = fovea(k, i);
         q.fovea = c.config.fovea;
         q.intrinsics = s.frame.intrinsics;
         std::vector<Trial> runs;
@@ -129,13 +119,20 @@ class Runner {
                      .count();
           t.centres = Centres(r, s);
           t.stats = r.stats;
+          if (run == 0) t.evidence = Evidence(r, s, o);
+          for (const Detection& d : r.instances) {
+            t.instances.push_back(d);
+            t.instances.back().correspondences.clear();
+          }
           runs.push_back(std::move(t));
         }
+        const CaseEvidence evidence = runs.front().evidence;
         auto median = runs.begin() + runs.size() / 2;
         std::nth_element(runs.begin(), median, runs.end(),
                          [](const Trial& a, const Trial& b) { return a.ms < b.ms; });
         if (acquisitions && !is_stock)
           (*acquisitions)[k].push_back(Acquire(*described[s.model], s, q, o, median->centres));
+        median->evidence = evidence;
         (*trials)[k].push_back(std::move(*median));
       }
     }
@@ -149,6 +146,32 @@ class Runner {
     for (const Detection& d : r.instances)
       out.push_back((d.model_to_scene * models_[s.model].centre.homogeneous()).head<3>());
     return out;
+  }
+
+  // What the truth says of a run: matches the true pose explains (within a Hough bin of the
+  // model's fitted radii), and verification's verdicts on the hypotheses near the truth.
+  CaseEvidence Evidence(const RecognitionResult& r, const Scene& s,
+                        const RecognitionOptions& given) const {
+    CaseEvidence e;
+    const EvalModel& m = models_[s.model];
+    const Cloud& scene = *s.frame.cloud;
+    if (s.truth_pose) {
+      const float tolerance =
+          std::max(0.02f, RadiiForModel(given, MeasureModel(m.cloud)).hough_bin_m);
+      for (const auto& [mi, si] : r.correspondences) {
+        const Eigen::Vector3f p =
+            (*s.truth_pose * m.cloud[mi].getVector3fMap().homogeneous()).head<3>();
+        e.correct_correspondences += (p - scene[si].getVector3fMap()).norm() <= tolerance;
+      }
+    }
+    for (std::size_t h = 0; h < r.hypotheses.size(); ++h) {
+      const Eigen::Vector3f centre =
+          (r.hypotheses[h].model_to_scene * m.centre.homogeneous()).head<3>();
+      if ((centre - s.truth_m).norm() > 0.08f) continue;
+      e.true_hypotheses.push_back(h < r.verdicts.size() ? r.verdicts[h] : Verdict::kKept);
+    }
+    e.found = ScoreScene(Centres(r, s), s.truth_m, 0.08f).true_positives > 0;
+    return e;
   }
 
   // The daemon's attention loop (AttentionOptions' defaults: G grows by 0.1 m a lost frame to
@@ -214,6 +237,32 @@ Totals Score(const std::vector<Trial>& trials, const std::vector<Scene>& scenes,
   return t;
 }
 
+// The scene category of each case (by name) from the cases.csv beside a cases file, when there
+// is one with `name` and `scene_category` columns (the mOSD benchmark's); empty otherwise.
+std::map<std::string, std::string> CaseCategories(const std::string& cases_path) {
+  std::map<std::string, std::string> out;
+  std::ifstream in(fs::path(cases_path).parent_path() / "cases.csv");
+  std::string line;
+  if (!std::getline(in, line)) return out;
+  const auto split = [](const std::string& l) {
+    std::vector<std::string> cells;
+    std::stringstream ss(l);
+    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
+    return cells;
+  };
+  const std::vector<std::string> header = split(line);
+  const auto column = [&](const char* name) {
+    return std::size_t(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::size_t name = column("name"), category = column("scene_category");
+  if (name >= header.size() || category >= header.size()) return out;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = split(line);
+    if (cells.size() == header.size()) out[cells[name]] = cells[category];
+  }
+  return out;
+}
+
 // Each case's model (its object's labelled points, in the camera frame of its capture) and scene
 // (the other capture, with the centroid of the object's labelled points as the truth).
 bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
@@ -222,6 +271,7 @@ bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
   std::vector<LabelledCase> cases;
   if (!LoadLabelledCases(path, data_dir, &cases, error)) return false;
   if (cases.empty()) return Fail(error, path + ": no cases");
+  const std::map<std::string, std::string> categories = CaseCategories(path);
   // Each capture is loaded once; cases searching the same capture share its cloud.
   struct Capture {
     std::shared_ptr<const Cloud> cloud;
@@ -265,6 +315,13 @@ bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
     if (!truth) return false;
     Scene s;
     s.truth_m = *FiniteCentroid(*truth);
+    s.truth_pose = c.truth_pose;
+    s.feasible = c.feasible;
+    s.identity = c.identity.empty() ? c.name.substr(0, c.name.find('-')) : c.identity;
+    if (const auto it = categories.find(c.name); c.category.empty() && it != categories.end())
+      s.category = it->second;
+    else
+      s.category = c.category;
     s.frame.cloud = target->cloud;
     s.frame.intrinsics = target->intrinsics;
     s.frame.sequence = scenes->size();
@@ -362,7 +419,8 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   std::string error;
   if (!args.Parse(argv,
                   {"dataset", "model", "configs", "out", "model-centre", "sphere-radius",
-                   "reference", "frames", "sweep", "truth-pose", "cases", "data", "repeat"},
+                   "reference", "frames", "sweep", "truth-pose", "cases", "data", "repeat",
+                   "protocols"},
                   {"no-plots"}, &error))
     return Usage(err, "eval", error);
   const bool cases = args.Has("cases");
@@ -407,6 +465,15 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
                      [&](const EvalConfiguration& c) { return c.name == name; }))
       return fail("--sweep: no configuration named '" + name + "'");
 
+  std::vector<eval::Protocol> protocols;  // --cases only
+  for (char p : args.Get("protocols", "a")) {
+    if (p == ',') continue;
+    if (!cases) return Usage(err, "eval", "--protocols applies to --cases only");
+    if (p < 'a' || p > 'c')
+      return Usage(err, "eval", "--protocols expects a list of a, b, c (e.g. a,b,c)");
+    protocols.push_back(eval::Protocol(p - 'a'));
+  }
+
   std::vector<EvalModel> models;
   std::vector<Scene> scenes;
   if (cases) {
@@ -434,14 +501,44 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     const bool sweep =
         std::find(sweep_names.begin(), sweep_names.end(), configs[c].name) != sweep_names.end();
     std::vector<std::vector<Trial>> per_offset;
-    if (!runner.Run(configs[c], scenes,
-                    sweep ? sweep_offsets : std::vector<Eigen::Vector3f>{Eigen::Vector3f::Zero()},
-                    &per_offset, sweep ? &acquired[c] : nullptr, &error))
+    if (!runner.Run(
+            configs[c], scenes, sweep ? sweep_offsets.size() : 1,
+            [&](std::size_t k, std::size_t i) { return scenes[i].truth_m + sweep_offsets[k]; },
+            &per_offset, sweep ? &acquired[c] : nullptr, &error))
       return fail("configuration " + configs[c].name + ": " + error);
     trials[c] = per_offset.front();
     mean_ms[c] = MeanMs(trials[c]);
     if (sweep) swept[c] = std::move(per_offset);
     err << "saccade eval: configuration " << configs[c].name << " done\n";
+  }
+  if (cases) {
+    // The benchmark's protocols; (a) is the trials above.
+    std::vector<std::vector<eval::ProtocolRun>> runs(configs.size());
+    for (std::size_t c = 0; c < configs.size(); ++c)
+      for (eval::Protocol p : protocols) {
+        eval::ProtocolRun run;
+        run.protocol = p;
+        std::vector<std::vector<Trial>> per;
+        std::vector<std::vector<Acquisition>> acquisitions;
+        const bool acquire = p == eval::Protocol::kAcquisition;
+        if (p == eval::Protocol::kOnObject) {
+          run.trials = trials[c];
+        } else if (!runner.Run(configs[c], scenes, 1,
+                               [&](std::size_t, std::size_t i) {
+                                 return acquire ? Eigen::Vector3f(0, 0, 1)
+                                                : scenes[i].truth_m + OffObject(i);
+                               },
+                               &per, acquire ? &acquisitions : nullptr, &error)) {
+          return fail("configuration " + configs[c].name + ": " + error);
+        } else {
+          run.trials = std::move(per.front());
+          if (acquire) run.acquisitions = std::move(acquisitions.front());
+        }
+        runs[c].push_back(std::move(run));
+        err << "saccade eval: configuration " << configs[c].name << ", protocol "
+            << eval::ProtocolName(p) << " done\n";
+      }
+    eval::WriteCaseReport(args.Get("cases"), configs, models, scenes, runs, dir, out);
   }
   const std::string reference = args.Get("reference", "10");
   double reference_ms = 0;

@@ -36,6 +36,18 @@ Setter Quaternion(Eigen::Quaternionf* field) {
   };
 }
 
+Setter Matrix4(std::optional<Eigen::Matrix4f>* field) {
+  return [field](const YAML::Node& n) {
+    if (!n.IsSequence() || n.size() != 16)
+      throw YAML::Exception(n.Mark(), "expected a list of 16 numbers (a 4x4 matrix, row-major)");
+    Eigen::Matrix4f m;
+    for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = n[i].as<float>();
+    if (!m.allFinite() || !m.row(3).isApprox(Eigen::RowVector4f(0, 0, 0, 1)))
+      throw YAML::Exception(n.Mark(), "expected a rigid transform with last row 0 0 0 1");
+    *field = m;
+  };
+}
+
 Setter Vector2(Eigen::Vector2f* field) {
   return [field](const YAML::Node& n) {
     if (!n.IsSequence() || n.size() != 2)
@@ -457,7 +469,11 @@ bool LoadLabelledCases(const std::string& path, const std::string& data_dir,
                                                              {"object", Scalar(&c.model_object)}};
         const std::map<std::string, Setter> capture_scene = {{"file", Scalar(&c.scene_file)},
                                                              {"object", Scalar(&c.scene_object)}};
-        const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)}};
+        const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)},
+                                                   {"truth_pose", Matrix4(&c.truth_pose)},
+                                                   {"feasible", Scalar(&c.feasible)},
+                                                   {"identity", Scalar(&c.identity)},
+                                                   {"category", Scalar(&c.category)}};
         for (const auto& kv : node) {
           const std::string key = kv.first.as<std::string>();
           const std::string qualified = entry + "." + key;

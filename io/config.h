@@ -7,6 +7,7 @@
 #include "core/scenario.h"
 
 #include <functional>
+#include <optional>
 #include <map>
 #include <string>
 #include <vector>
@@ -86,12 +87,23 @@ struct LabelledCase {
   int model_object = 0;
   std::string scene_file;
   int scene_object = 0;
+  /// Optional truth beyond the labelled centroid: the model-to-scene pose (model capture frame
+  /// to scene capture frame, metres), and whether the two captures share enough surface for any
+  /// pose to be verified (an infeasible case is reported apart, not counted against recall).
+  std::optional<Eigen::Matrix4f> truth_pose;
+  bool feasible = true;
+  /// What the case is of, for per-object and per-category tables; empty when not given (the
+  /// evaluation then takes the identity from the name, up to its first '-').
+  std::string identity;
+  std::string category;
 };
 
 /// A cases file:
 ///   cases:
 ///     - {name: tin-31-in-44, model: {file: pcl_data/mOSD/test31.pcd, object: 2},
-///        scene: {file: pcl_data/mOSD/test44.pcd, object: 2}}
+///        scene: {file: pcl_data/mOSD/test44.pcd, object: 2},
+///        truth_pose: [16 numbers, row-major 4x4], feasible: true,   # optional
+///        identity: cookie_tin, category: cylindric objects}          # optional
 /// Relative files are resolved against `data_dir`. Strict as the other loaders.
 bool LoadLabelledCases(const std::string& path, const std::string& data_dir,
                        std::vector<LabelledCase>* out, std::string* error);
