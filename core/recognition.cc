@@ -53,6 +53,8 @@ bool RecognitionOptions::IsValid(std::string* error) const {
   if (match_branching < 2) return Fail(error, "match_branching must be >= 2");
   if (match_checks < 1) return Fail(error, "match_checks must be >= 1");
   if (max_support_half_window_px < 0) return Fail(error, "max_support_half_window_px must be >= 0");
+  if (consensus_min_votes < 3) return Fail(error, "consensus_min_votes must be >= 3");
+  if (consensus_max_hypotheses < 1) return Fail(error, "consensus_max_hypotheses must be >= 1");
   return verify.IsValid(error);
 }
 
@@ -369,6 +371,88 @@ std::vector<Detection> HoughGroup(const Descriptors& model, const Cloud& model_c
   return out;
 }
 
+std::vector<Detection> ConsensusGroup(const Descriptors& model, const Cloud& model_cloud,
+                                      const Eigen::Vector3f& model_centroid,
+                                      const Descriptors& scene, const Cloud& scene_cloud,
+                                      const std::vector<std::pair<int, int>>& correspondences,
+                                      const RecognitionOptions& options) {
+  const std::size_t n = correspondences.size();
+  std::vector<Eigen::Vector3f> from(n), to(n);
+  std::vector<Eigen::Matrix4f> pose(n, Eigen::Matrix4f::Identity());
+  for (std::size_t c = 0; c < n; ++c) {
+    const auto [mi, si] = correspondences[c];
+    from[c] = model_cloud[model.keypoint[mi]].getVector3fMap();
+    to[c] = scene_cloud[scene.keypoint[si]].getVector3fMap();
+    // The two local frames give the whole pose: rotation R = L_s^T L_m, then the keypoints meet.
+    const Eigen::Matrix3f R = scene.lrf[si].transpose() * model.lrf[mi];
+    pose[c].topLeftCorner<3, 3>() = R;
+    pose[c].topRightCorner<3, 1>() = to[c] - R * from[c];
+  }
+  const float thr2 = options.pose_inlier_threshold_m * options.pose_inlier_threshold_m;
+  const auto agreeing = [&](const Eigen::Matrix4f& p) {
+    std::vector<int> members;
+    const Eigen::Matrix3f R = p.topLeftCorner<3, 3>();
+    const Eigen::Vector3f t = p.topRightCorner<3, 1>();
+    for (std::size_t c = 0; c < n; ++c)
+      if ((R * from[c] + t - to[c]).squaredNorm() <= thr2) members.push_back(int(c));
+    return members;
+  };
+  std::vector<int> support(n, 0);
+  for (std::size_t c = 0; c < n; ++c)
+    if (pose[c].allFinite()) support[c] = int(agreeing(pose[c]).size());
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return support[a] > support[b]; });
+  std::vector<std::uint8_t> used(n, 0);
+  std::vector<Detection> out;
+  for (int seed : order) {
+    if (support[seed] < options.consensus_min_votes ||
+        int(out.size()) >= options.consensus_max_hypotheses)
+      break;
+    if (used[seed]) continue;
+    // Refit on the seed's agreeing matches, re-gather, twice: the seed's own frames are noisy.
+    Eigen::Matrix4f p = pose[seed];
+    std::vector<int> members = agreeing(p);
+    for (int round = 0; round < 2 && int(members.size()) >= 3; ++round) {
+      std::vector<Eigen::Vector3f> a, b;
+      for (int c : members) a.push_back(from[c]), b.push_back(to[c]);
+      const Eigen::Matrix4f refit = FitRigid(a, b);
+      if (!refit.allFinite()) break;
+      std::vector<int> again = agreeing(refit);
+      if (again.size() < members.size()) break;
+      p = refit;
+      members.swap(again);
+    }
+    for (int c : members) used[c] = 1;
+    used[seed] = 1;
+    if (int(members.size()) < options.consensus_min_votes) continue;
+    const Eigen::Matrix3f R = p.topLeftCorner<3, 3>();
+    if (std::abs(R.determinant() - 1.0f) > 1e-3f) continue;
+    Detection d;
+    d.model_to_scene = p;
+    d.votes = int(members.size());
+    d.centroid_m = R * model_centroid + p.topRightCorner<3, 1>();
+    for (int c : members)
+      d.correspondences.emplace_back(model.keypoint[correspondences[c].first],
+                                     scene.keypoint[correspondences[c].second]);
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+std::vector<Detection> MergeHypotheses(std::vector<Detection> a, std::vector<Detection> b,
+                                       float min_separation_m) {
+  for (Detection& d : b) {
+    const bool duplicate = std::any_of(a.begin(), a.end(), [&](const Detection& k) {
+      return (k.centroid_m - d.centroid_m).norm() < min_separation_m;
+    });
+    if (!duplicate) a.push_back(std::move(d));
+  }
+  std::stable_sort(a.begin(), a.end(),
+                   [](const Detection& x, const Detection& y) { return x.votes > y.votes; });
+  return a;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Scene
 
@@ -494,6 +578,12 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   t = Clock::now();
   result.instances = HoughGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc,
                                 scene, correspondences, options);
+  if (options.consensus_grouping)
+    result.instances = MergeHypotheses(
+        std::move(result.instances),
+        ConsensusGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc, scene,
+                       correspondences, options),
+        2.0f * options.hough_bin_m);
   stats.hypotheses = result.instances.size();
   result.hypotheses = result.instances;
   stats.stage_ms.emplace_back("group", MsSince(t));

@@ -56,6 +56,12 @@ struct RecognitionOptions {
   int match_branching = 8;
   int match_checks = 16;
   unsigned match_seed = 42;
+  /// A second hypothesis generator beside Hough voting: each match's two local frames give a
+  /// whole pose, the poses most matches agree with (within pose_inlier_threshold_m) are refit
+  /// on them and proposed. It finds an object whose few true matches scatter over Hough cells.
+  bool consensus_grouping = true;
+  int consensus_min_votes = 4;       // matches that must agree on a proposed pose
+  int consensus_max_hypotheses = 8;  // proposals at most, most agreed first
   /// Hypothesis verification after grouping (ICP, surface and free-space checks, colour).
   VerificationOptions verify;
   /// Replace the radii above (keypoints, SHOT, LRF, Hough bin, pose inliers) by ones fitted to
@@ -191,6 +197,19 @@ std::vector<Detection> HoughGroup(const Descriptors& model, const Cloud& model_c
                                   const Cloud& scene_cloud,
                                   const std::vector<std::pair<int, int>>& correspondences,
                                   const RecognitionOptions& options);
+
+/// Groups correspondences by consensus on the poses their local frames give (see
+/// RecognitionOptions::consensus_grouping); most agreed first.
+std::vector<Detection> ConsensusGroup(const Descriptors& model, const Cloud& model_cloud,
+                                      const Eigen::Vector3f& model_centroid,
+                                      const Descriptors& scene, const Cloud& scene_cloud,
+                                      const std::vector<std::pair<int, int>>& correspondences,
+                                      const RecognitionOptions& options);
+
+/// `a` and the hypotheses of `b` whose centroid is at least `min_separation_m` from all of
+/// `a`'s, by votes.
+std::vector<Detection> MergeHypotheses(std::vector<Detection> a, std::vector<Detection> b,
+                                       float min_separation_m);
 
 /// Translation error at a point (the model centroid) and rotation angle error, between poses.
 struct PoseError {

@@ -119,6 +119,7 @@ struct Check {
   int inliers = 0, against = 0;
   float thickness = 0;  // of the inlying model points: sqrt of their least covariance eigenvalue
   std::vector<int> explained;  // scene points nearest the inlying model points
+  std::vector<int> explaining;  // the inlying model points, one per explained scene point
 };
 
 // A coarse colour histogram: rg chromaticity (5 x 5) by brightness (3), normalized.
@@ -143,6 +144,50 @@ float Intersection(const ColourHistogram& a, const ColourHistogram& b) {
   float s = 0;
   for (std::size_t i = 0; i < a.size(); ++i) s += std::min(a[i], b[i]);
   return s;
+}
+
+// Colour agreement of point pairs (model point, the scene point it lies on), after the one
+// per-channel gain that best maps the model's colours onto the scene's (a von Kries model of
+// another exposure and white balance): the share of pairs whose chromaticity then differs by
+// less than kChromaTolerance. The gains' ratios are bounded (a white-balance shift, not a
+// repaint), so a red object cannot be corrected into a green one.
+float PairColourAgreement(const Cloud& model, const std::vector<int>& model_points,
+                          const Cloud& scene, const std::vector<int>& scene_points) {
+  constexpr float kMinSum = 30;            // darker pixels carry no chromaticity
+  constexpr float kChromaTolerance = 0.05f;
+  constexpr float kMaxGainRatio = 1.5f;
+  std::vector<Eigen::Vector3f> a, b;
+  for (std::size_t i = 0; i < model_points.size(); ++i) {
+    const PointT& m = model[model_points[i]];
+    const PointT& q = scene[scene_points[i]];
+    const Eigen::Vector3f cm(m.r, m.g, m.b), cs(q.r, q.g, q.b);
+    if (cm.sum() < kMinSum || cs.sum() < kMinSum) continue;
+    a.push_back(cm);
+    b.push_back(cs);
+  }
+  if (a.size() < 10) return 0;
+  // Gain per channel: the median of the scene-to-model ratios; then relative to their mean.
+  Eigen::Vector3f gain;
+  for (int ch = 0; ch < 3; ++ch) {
+    std::vector<float> ratio;
+    for (std::size_t i = 0; i < a.size(); ++i) ratio.push_back((b[i][ch] + 1) / (a[i][ch] + 1));
+    std::nth_element(ratio.begin(), ratio.begin() + long(ratio.size() / 2), ratio.end());
+    gain[ch] = ratio[ratio.size() / 2];
+  }
+  gain /= gain.mean();
+  const float lo = gain.minCoeff(), hi = gain.maxCoeff();
+  if (hi > kMaxGainRatio * lo) {
+    const float mid = std::sqrt(lo * hi);
+    const float half = std::sqrt(kMaxGainRatio);
+    gain = gain.cwiseMax(mid / half).cwiseMin(mid * half);
+  }
+  int agree = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Eigen::Vector3f m = a[i].cwiseProduct(gain);
+    const Eigen::Vector2f cm = m.head<2>() / m.sum(), cs = b[i].head<2>() / b[i].sum();
+    agree += (cm - cs).norm() < kChromaTolerance;
+  }
+  return float(agree) / float(a.size());
 }
 
 // The spread of points along their least-spread direction (0 when planar or too few).
@@ -201,6 +246,7 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
       ++c.inliers;
       on_surface.push_back(model.points[m].getVector3fMap());
       c.explained.push_back(crop_index[j]);
+      c.explaining.push_back(int(m));
       continue;
     }
     if (!k || scene.height <= 1 || p.z() <= 0) continue;
@@ -297,7 +343,8 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
       ColourHistogram seen{};
       for (int j : c.explained) AddColour(scene[j], &seen);
       Normalize(&seen);
-      d.colour_agreement = Intersection(model_colour, seen);
+      d.confidence = Intersection(model_colour, seen);  // EXPERIMENT
+      d.colour_agreement = PairColourAgreement(model.points, c.explaining, scene, c.explained);
       if (options.min_colour_agreement > 0 && d.colour_agreement < options.min_colour_agreement)
         continue;
     }
