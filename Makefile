@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
 
-.PHONY: all deps configure build demo test bench bench-daemon clean
+.PHONY: all deps configure build demo test bench bench-daemon eval-xcap clean
 
 all: build
 
@@ -32,6 +32,13 @@ bench: build
 # saccaded against a 30 Hz virtual OpenNI2 camera; see docs/BENCHMARKS.md.
 bench-daemon: build
 	@./scripts/bench-daemon.sh $(BUILD_DIR)
+
+# The cross-capture benchmark (needs ../shared/data/mosd_xcap), all three protocols, with the
+# stock PCL peer: writes eval-xcap/report.md, the tables of docs/RESULTS.md (about 20 minutes).
+eval-xcap: build
+	@OMP_WAIT_POLICY=passive $(BUILD_DIR)/daemon/saccade eval \
+	  --cases ../shared/data/mosd_xcap/cases_with_pose.yaml --data ../shared/data \
+	  --configs configs/xcap-configs.yaml --protocols a,b,c --reference saccade --out eval-xcap
 
 clean:
 	@rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log

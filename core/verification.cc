@@ -32,7 +32,8 @@ bool VerificationOptions::IsValid(std::string* error) const {
       {"verify_min_fitness", min_fitness},
       {"verify_min_coverage", min_coverage},
       {"verify_min_depth_ratio", min_depth_ratio},
-      {"verify_min_colour_agreement", min_colour_agreement}};
+      {"verify_min_colour_agreement", min_colour_agreement},
+      {"verify_min_confidence", min_confidence}};
   for (const auto& [name, v] : shares)
     if (!(v >= 0 && v <= 1)) return Fail(error, std::string(name) + " must be in [0, 1]");
   return true;
@@ -122,15 +123,17 @@ struct Check {
   std::vector<int> explaining;  // the inlying model points, one per explained scene point
 };
 
-// A coarse colour histogram: rg chromaticity (5 x 5) by brightness (3), normalized.
-using ColourHistogram = std::array<float, 75>;
+// A colour histogram in rg chromaticity (r / (r+g+b), g / (r+g+b)), 8 x 8 bins over [0, 2/3]:
+// brightness is divided out, so another exposure moves nothing; pixels too dark to carry a
+// chromaticity are left out.
+using ColourHistogram = std::array<float, 64>;
 
 void AddColour(const PointT& p, ColourHistogram* h) {
+  constexpr float kMinSum = 30;
   const float sum = float(p.r) + float(p.g) + float(p.b);
-  if (sum <= 0) return;
-  const int r = std::min(4, int(5 * p.r / sum)), g = std::min(4, int(5 * p.g / sum));
-  const int i = std::min(2, int(3 * sum / 766));
-  (*h)[(i * 5 + g) * 5 + r] += 1;
+  if (sum < kMinSum) return;
+  const int r = std::min(7, int(12 * p.r / sum)), g = std::min(7, int(12 * p.g / sum));
+  (*h)[g * 8 + r] += 1;
 }
 
 void Normalize(ColourHistogram* h) {
@@ -144,50 +147,6 @@ float Intersection(const ColourHistogram& a, const ColourHistogram& b) {
   float s = 0;
   for (std::size_t i = 0; i < a.size(); ++i) s += std::min(a[i], b[i]);
   return s;
-}
-
-// Colour agreement of point pairs (model point, the scene point it lies on), after the one
-// per-channel gain that best maps the model's colours onto the scene's (a von Kries model of
-// another exposure and white balance): the share of pairs whose chromaticity then differs by
-// less than kChromaTolerance. The gains' ratios are bounded (a white-balance shift, not a
-// repaint), so a red object cannot be corrected into a green one.
-float PairColourAgreement(const Cloud& model, const std::vector<int>& model_points,
-                          const Cloud& scene, const std::vector<int>& scene_points) {
-  constexpr float kMinSum = 30;            // darker pixels carry no chromaticity
-  constexpr float kChromaTolerance = 0.05f;
-  constexpr float kMaxGainRatio = 1.5f;
-  std::vector<Eigen::Vector3f> a, b;
-  for (std::size_t i = 0; i < model_points.size(); ++i) {
-    const PointT& m = model[model_points[i]];
-    const PointT& q = scene[scene_points[i]];
-    const Eigen::Vector3f cm(m.r, m.g, m.b), cs(q.r, q.g, q.b);
-    if (cm.sum() < kMinSum || cs.sum() < kMinSum) continue;
-    a.push_back(cm);
-    b.push_back(cs);
-  }
-  if (a.size() < 10) return 0;
-  // Gain per channel: the median of the scene-to-model ratios; then relative to their mean.
-  Eigen::Vector3f gain;
-  for (int ch = 0; ch < 3; ++ch) {
-    std::vector<float> ratio;
-    for (std::size_t i = 0; i < a.size(); ++i) ratio.push_back((b[i][ch] + 1) / (a[i][ch] + 1));
-    std::nth_element(ratio.begin(), ratio.begin() + long(ratio.size() / 2), ratio.end());
-    gain[ch] = ratio[ratio.size() / 2];
-  }
-  gain /= gain.mean();
-  const float lo = gain.minCoeff(), hi = gain.maxCoeff();
-  if (hi > kMaxGainRatio * lo) {
-    const float mid = std::sqrt(lo * hi);
-    const float half = std::sqrt(kMaxGainRatio);
-    gain = gain.cwiseMax(mid / half).cwiseMin(mid * half);
-  }
-  int agree = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const Eigen::Vector3f m = a[i].cwiseProduct(gain);
-    const Eigen::Vector2f cm = m.head<2>() / m.sum(), cs = b[i].head<2>() / b[i].sum();
-    agree += (cm - cs).norm() < kChromaTolerance;
-  }
-  return float(agree) / float(a.size());
 }
 
 // The spread of points along their least-spread direction (0 when planar or too few).
@@ -268,6 +227,20 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
 
 }  // namespace
 
+float InstanceConfidence(const Detection& d, float relative_fit) {
+  // Logistic regressions fitted on the instances verification kept (every gate but this one)
+  // on the cross-capture benchmark's 238 cases (docs/RESULTS.md, "Confidence"): features
+  // 1, ln votes, fitness, coverage, colour agreement (when measured), relative fit.
+  const double votes = std::log(std::max(1, d.votes));
+  double z;
+  if (d.colour_agreement >= 0)
+    z = -9.107 + 1.243 * votes - 0.635 * d.fitness + 1.067 * d.coverage +
+        5.237 * d.colour_agreement + 3.237 * relative_fit;
+  else
+    z = -9.009 + 1.630 * votes - 0.421 * d.fitness + 2.200 * d.coverage + 4.090 * relative_fit;
+  return float(1 / (1 + std::exp(-z)));
+}
+
 const char* VerdictName(Verdict v) {
   switch (v) {
     case Verdict::kKept: return "kept";
@@ -275,6 +248,7 @@ const char* VerdictName(Verdict v) {
     case Verdict::kNoFit: return "no_fit";
     case Verdict::kFlat: return "flat";
     case Verdict::kColour: return "colour";
+    case Verdict::kUnconfident: return "unconfident";
     case Verdict::kTakenByBetter: return "taken_by_better";
   }
   return "?";
@@ -316,18 +290,13 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
     return {};
   }
   // Colour agreement is measured whenever both clouds have colour; it gates only when asked to.
-  const bool colour = model.coloured && HasColour(scene);
+  const bool colour = options.use_colour && model.coloured && HasColour(scene);
   if (int(instances.size()) > options.max_candidates) instances.resize(options.max_candidates);
   std::vector<Check> checks(instances.size());
   parallel_for(instances.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       checks[i] = Refine(model, scene, intrinsics, instances[i].model_to_scene, options);
   });
-  ColourHistogram model_colour{};
-  if (colour) {
-    for (const PointT& p : model.points) AddColour(p, &model_colour);
-    Normalize(&model_colour);
-  }
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < instances.size(); ++i) {
     const Check& c = checks[i];
@@ -340,11 +309,14 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
     if (c.thickness < options.min_depth_ratio * model.thickness_m) continue;
     verdict[i] = Verdict::kColour;
     if (colour) {
-      ColourHistogram seen{};
+      // The same surface on both sides: the model points on the scene and the points they lie
+      // on (the model's other faces may differ in colour and are not seen here).
+      ColourHistogram on_model{}, seen{};
+      for (int m : c.explaining) AddColour(model.points[m], &on_model);
       for (int j : c.explained) AddColour(scene[j], &seen);
+      Normalize(&on_model);
       Normalize(&seen);
-      d.confidence = Intersection(model_colour, seen);  // EXPERIMENT
-      d.colour_agreement = PairColourAgreement(model.points, c.explaining, scene, c.explained);
+      d.colour_agreement = Intersection(on_model, seen);
       if (options.min_colour_agreement > 0 && d.colour_agreement < options.min_colour_agreement)
         continue;
     }
@@ -357,6 +329,20 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
     return instances[a].coverage * instances[a].fitness >
            instances[b].coverage * instances[b].fitness;
   });
+  // One score from all the figures, against the best candidate's surface fit.
+  if (!order.empty()) {
+    const float best = instances[order.front()].coverage * instances[order.front()].fitness;
+    std::vector<std::size_t> confident;
+    for (std::size_t i : order) {
+      Detection& d = instances[i];
+      d.confidence = InstanceConfidence(d, d.coverage * d.fitness / std::max(1e-6f, best));
+      if (d.confidence >= options.min_confidence)
+        confident.push_back(i);
+      else
+        verdict[i] = Verdict::kUnconfident;
+    }
+    order.swap(confident);
+  }
   // Best first, and two instances cannot be one object: an instance that mostly re-explains
   // scene points a better one took, or whose body would overlap a better one's (centres closer
   // than the model's half diagonal), is the model slid along the object or onto its neighbour.

@@ -516,6 +516,8 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     std::vector<std::vector<eval::ProtocolRun>> runs(configs.size());
     for (std::size_t c = 0; c < configs.size(); ++c)
       for (eval::Protocol p : protocols) {
+        // Where the fovea is matters to foveated recognition only.
+        if (p != eval::Protocol::kOnObject && configs[c].pipeline != "foveated") continue;
         eval::ProtocolRun run;
         run.protocol = p;
         std::vector<std::vector<Trial>> per;

@@ -309,6 +309,8 @@ ConfigKeys RecognitionKeys(RecognitionOptions* r) {
       .Add("verify_min_coverage", &r->verify.min_coverage)
       .Add("verify_min_depth_ratio", &r->verify.min_depth_ratio)
       .Add("verify_min_colour_agreement", &r->verify.min_colour_agreement)
+      .Add("verify_min_confidence", &r->verify.min_confidence)
+      .Add("verify_colour", &r->verify.use_colour)
       .Add("verify_max_sink_m", &r->verify.max_sink_m);
   return k;
 }
