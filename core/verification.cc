@@ -41,17 +41,6 @@ bool VerificationOptions::IsValid(std::string* error) const {
 
 namespace {
 
-// True when the points carry colour: more than one colour among them (a cloud saved without
-// colour reads as all black, and some files fill the field with one constant).
-bool HasColour(const Cloud& cloud) {
-  if (cloud.empty()) return false;
-  const auto rgb = [](const PointT& p) { return p.rgba & 0xffffffu; };
-  const std::uint32_t first = rgb(cloud[0]);
-  for (const PointT& p : cloud.points)
-    if (rgb(p) != first) return true;
-  return false;
-}
-
 // The scene's finite points within `radius_m` of `centre`: for an organized scene only the pixel
 // rectangle the sphere can project into is scanned, every `spacing_m` (in pixels at the centre's
 // depth) rather than every pixel: a surface sampled that finely still puts a point within
@@ -226,6 +215,15 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
 }
 
 }  // namespace
+
+bool HasColour(const Cloud& cloud) {
+  if (cloud.empty()) return false;
+  const auto rgb = [](const PointT& p) { return p.rgba & 0xffffffu; };
+  const std::uint32_t first = rgb(cloud[0]);
+  for (const PointT& p : cloud.points)
+    if (rgb(p) != first) return true;
+  return false;
+}
 
 float InstanceConfidence(const Detection& d, float relative_fit) {
   // Logistic regressions fitted on the instances verification kept (every gate but this one)

@@ -64,6 +64,10 @@ VerificationModel MakeVerificationModel(const Cloud& model,
                                         const std::vector<Eigen::Vector3f>& normals,
                                         int max_points);
 
+/// True when the points carry colour: more than one colour among them (a cloud saved without
+/// colour reads as all black, and some files fill the field with one constant).
+bool HasColour(const Cloud& cloud);
+
 /// How likely a verified instance is the object, in [0, 1]: a logistic model of its votes,
 /// fitness, coverage, colour agreement (-1: not measured, a model without colour is used) and
 /// `relative_fit` (its fitness x coverage over the frame's best candidate's), calibrated on the

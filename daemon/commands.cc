@@ -91,6 +91,7 @@ std::string ResultJson(const RecognitionResult& r, const ModelDescription& model
     j.Key("votes").Value(d.votes).Key("centroid").Vector3(d.centroid_m);
     j.Key("fitness").Value(double(d.fitness)).Key("coverage").Value(double(d.coverage));
     j.Key("colour_agreement").Value(double(d.colour_agreement));
+    j.Key("confidence").Value(double(d.confidence));
     j.EndObject();
   }
   j.EndArray().Key("timing_ms").BeginObject();
@@ -125,6 +126,7 @@ void PrintResult(const RecognitionResult& r, const ModelDescription& model,
         << d.centroid_m.y() << ", " << d.centroid_m.z() << ") m";
     if (d.fitness >= 0) out << ", fitness " << d.fitness << ", coverage " << d.coverage;
     if (d.colour_agreement >= 0) out << ", colour " << d.colour_agreement;
+    if (d.confidence >= 0) out << ", confidence " << d.confidence;
     out << ", pose model->scene:\n";
     for (int row = 0; row < 4; ++row) {
       out << "  ";

@@ -5,6 +5,7 @@
 #include "core/fail.h"
 #include "core/features.h"
 #include "core/recognition.h"
+#include "core/opencv_ppf.h"
 #include "core/reference_pipeline.h"
 #include "core/segmentation.h"
 #include "daemon/args.h"
@@ -87,11 +88,16 @@ class Runner {
     trials->assign(placements, {});
     if (acquisitions) acquisitions->assign(placements, {});
     const RecognitionOptions& o = c.config.recognition;
-    const bool is_stock = c.pipeline == "stock";
+    const bool is_stock = c.pipeline == "stock", is_ppf = c.pipeline == "opencv-ppf";
     // ReferenceModel is move-constructible only: built in place.
     std::vector<std::optional<ReferenceModel>> stock(models_.size());
     std::vector<std::optional<ModelDescription>> described(models_.size());
-    for (std::size_t m = 0; m < models_.size(); ++m) {
+    // OpenCV's PPF models are large (a hash table of every model point pair): one at a time,
+    // trained when a scene first needs it.
+    std::optional<PpfPeerModel> ppf;
+    std::size_t ppf_model = models_.size();
+    const PpfPeerOptions ppf_options;
+    for (std::size_t m = 0; m < models_.size() && !is_ppf; ++m) {
       if (is_stock) {
         if (auto r = DescribeReferenceModel(models_[m].cloud, o, error))
           stock[m].emplace(std::move(*r));
@@ -108,11 +114,19 @@ class Runner {
         q.fovea_m = fovea(k, i);
         q.fovea = c.config.fovea;
         q.intrinsics = s.frame.intrinsics;
+        if (is_ppf && ppf_model != s.model) {
+          ppf.reset();
+          auto trained = TrainPpfPeer(models_[s.model].cloud, ppf_options, error);
+          if (!trained) return false;
+          ppf.emplace(std::move(*trained));
+          ppf_model = s.model;
+        }
         std::vector<Trial> runs;
         for (int run = 0; run < repeat_; ++run) {
           const auto t0 = std::chrono::steady_clock::now();
           const RecognitionResult r =
               is_stock ? RecognizeReference(*stock[s.model], *s.frame.cloud, o)
+              : is_ppf ? RecognizePpfPeer(*ppf, *s.frame.cloud, ppf_options)
                        : Recognize(*described[s.model], *s.frame.cloud, q, o, parallel_);
           Trial t;
           t.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
@@ -130,7 +144,7 @@ class Runner {
         auto median = runs.begin() + runs.size() / 2;
         std::nth_element(runs.begin(), median, runs.end(),
                          [](const Trial& a, const Trial& b) { return a.ms < b.ms; });
-        if (acquisitions && !is_stock)
+        if (acquisitions && described[s.model])
           (*acquisitions)[k].push_back(Acquire(*described[s.model], s, q, o, median->centres));
         median->evidence = evidence;
         (*trials)[k].push_back(std::move(*median));
@@ -244,7 +258,8 @@ std::map<std::string, std::string> CaseCategories(const std::string& cases_path)
   std::ifstream in(fs::path(cases_path).parent_path() / "cases.csv");
   std::string line;
   if (!std::getline(in, line)) return out;
-  const auto split = [](const std::string& l) {
+  const auto split = [](std::string l) {
+    if (!l.empty() && l.back() == '\r') l.pop_back();  // the benchmark's file has CRLF lines
     std::vector<std::string> cells;
     std::stringstream ss(l);
     for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
@@ -265,11 +280,29 @@ std::map<std::string, std::string> CaseCategories(const std::string& cases_path)
 
 // Each case's model (its object's labelled points, in the camera frame of its capture) and scene
 // (the other capture, with the centroid of the object's labelled points as the truth).
+// With `only` non-empty, just the cases it names (each must exist); of those, every `every`-th.
 bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
+                    const std::vector<std::string>& only, int every,
                     std::vector<EvalModel>* models, std::vector<Scene>* scenes,
                     std::string* error) {
   std::vector<LabelledCase> cases;
   if (!LoadLabelledCases(path, data_dir, &cases, error)) return false;
+  if (every > 1) {
+    std::vector<LabelledCase> kept;
+    for (std::size_t i = 0; i < cases.size(); i += std::size_t(every)) kept.push_back(cases[i]);
+    cases.swap(kept);
+  }
+  if (!only.empty()) {
+    for (const std::string& name : only)
+      if (std::none_of(cases.begin(), cases.end(),
+                       [&](const LabelledCase& c) { return c.name == name; }))
+        return Fail(error, path + ": --only: no case named '" + name + "'");
+    cases.erase(std::remove_if(cases.begin(), cases.end(),
+                               [&](const LabelledCase& c) {
+                                 return std::find(only.begin(), only.end(), c.name) == only.end();
+                               }),
+                cases.end());
+  }
   if (cases.empty()) return Fail(error, path + ": no cases");
   const std::map<std::string, std::string> categories = CaseCategories(path);
   // Each capture is loaded once; cases searching the same capture share its cloud.
@@ -420,7 +453,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   if (!args.Parse(argv,
                   {"dataset", "model", "configs", "out", "model-centre", "sphere-radius",
                    "reference", "frames", "sweep", "truth-pose", "cases", "data", "repeat",
-                   "protocols"},
+                   "protocols", "only", "every"},
                   {"no-plots"}, &error))
     return Usage(err, "eval", error);
   const bool cases = args.Has("cases");
@@ -465,10 +498,12 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
                      [&](const EvalConfiguration& c) { return c.name == name; }))
       return fail("--sweep: no configuration named '" + name + "'");
 
+  if (!cases && (args.Has("only") || args.Has("every")))
+    return Usage(err, "eval", "--protocols, --only and --every apply to --cases only");
   std::vector<eval::Protocol> protocols;  // --cases only
-  for (char p : args.Get("protocols", "a")) {
+  for (char p : args.Get("protocols", cases ? "a" : "")) {
     if (p == ',') continue;
-    if (!cases) return Usage(err, "eval", "--protocols applies to --cases only");
+    if (!cases) return Usage(err, "eval", "--protocols and --only apply to --cases only");
     if (p < 'a' || p > 'c')
       return Usage(err, "eval", "--protocols expects a list of a, b, c (e.g. a,b,c)");
     protocols.push_back(eval::Protocol(p - 'a'));
@@ -477,8 +512,13 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   std::vector<EvalModel> models;
   std::vector<Scene> scenes;
   if (cases) {
-    if (!LoadCaseScenes(args.Get("cases"), args.Get("data", "../shared/data"), &models, &scenes,
-                        &error))
+    std::vector<std::string> only;
+    std::stringstream names(args.Get("only"));
+    for (std::string name; std::getline(names, name, ',');) only.push_back(name);
+    const auto every = Args::ParsePositiveInt(args.Get("every", "1"));
+    if (!every) return Usage(err, "eval", "--every expects a positive integer");
+    if (!LoadCaseScenes(args.Get("cases"), args.Get("data", "../shared/data"), only, *every,
+                        &models, &scenes, &error))
       return fail(error);
   } else if (auto code =
                  LoadDatasetScenes(args, sphere_radius, max_frames, &models, &scenes, err)) {

@@ -279,6 +279,29 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
   breakdown("object", identities, &Scene::identity);
   if (!categories.empty()) breakdown("category", categories, &Scene::category);
 
+  // Reliability of the confidence: per bin of confidence, the share of instances that are true.
+  md << "\n## Reliability of the confidence (protocol a, every reported instance)\n\n"
+        "| configuration | confidence | instances | true | share true |\n|---|---|---|---|---|\n";
+  for (std::size_t c = 0; c < runs.size(); ++c)
+    for (const ProtocolRun& run : runs[c]) {
+      if (run.protocol != Protocol::kOnObject) continue;
+      const double edges[] = {0.0, 0.3, 0.5, 0.7, 0.8, 0.9, 1.01};
+      for (std::size_t b = 0; b + 1 < std::size(edges); ++b) {
+        int n = 0, t = 0;
+        for (std::size_t i = 0; i < scenes.size(); ++i)
+          for (std::size_t k = 0; k < run.trials[i].instances.size(); ++k) {
+            const float conf = run.trials[i].instances[k].confidence;
+            if (conf < edges[b] || conf >= edges[b + 1]) continue;
+            ++n;
+            t += (run.trials[i].centres[k] - scenes[i].truth_m).norm() <= kRuleM;
+          }
+        if (n == 0) continue;
+        md << "| " << configs[c].name << " | " << std::setprecision(1) << edges[b] << "-"
+           << std::min(1.0, edges[b + 1]) << " | " << n << " | " << t << " | "
+           << Percent(t, n) << " |\n";
+      }
+    }
+
   // Every reported instance with its figures: what a confidence is calibrated on.
   std::ofstream inst(dir / "instances.csv");
   inst << "configuration,protocol,case,identity,feasible,rank,true,votes,fitness,coverage,"

@@ -207,6 +207,7 @@ struct Tracker::State {
   AttentionMode mode = AttentionMode::kSearching;
   std::string last_summary;  // the newest frame's fovea and error, for the summary line
   std::atomic<std::int64_t> progress{0};
+  std::atomic<bool> colour_checked{false};  // the first frame's colour against the models'
 
   std::shared_ptr<const Engine> CurrentEngine() {
     std::lock_guard<std::mutex> lock(engine_mutex);
@@ -274,6 +275,13 @@ void Tracker::State::Recognize(Job* job) {
   q.intrinsics = job->frame.intrinsics;
   job->foveated = q.foveated;
   job->fovea_m = q.fovea_m;
+  // Verification compares colour only when both sides have it: say once when they differ.
+  if (!colour_checked.exchange(true) && !HasColour(*job->frame.cloud))
+    for (const auto& model : e.models)
+      if (model->description.verification().coloured)
+        Log(LogLevel::kWarning, "model '" + model->name +
+                                    "' has colour but the frames do not: verification runs on "
+                                    "geometry alone (docs/RESULTS.md measures both)");
   // Nested parallelism runs in the pipeline's own arena.
   const ParallelFor parallel = TbbParallelFor();
   for (std::size_t m = 0; m < e.models.size(); ++m) {
@@ -289,6 +297,10 @@ void Tracker::State::Recognize(Job* job) {
       i.camera_from_model = d.model_to_scene;
       i.centroid_m = d.centroid_m;
       i.votes = d.votes;
+      i.confidence = d.confidence;
+      i.fitness = d.fitness;
+      i.coverage = d.coverage;
+      i.colour_agreement = d.colour_agreement;
       job->instances.push_back(std::move(i));
     }
   }

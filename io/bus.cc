@@ -90,6 +90,10 @@ class LcmBus : public Bus {
       i.quat[0] = q.w(), i.quat[1] = q.x(), i.quat[2] = q.y(), i.quat[3] = q.z();
       Copy3(X_RC_ * r.centroid_m, i.centroid);
       i.votes = r.votes;
+      i.confidence = r.confidence;
+      i.fitness = r.fitness;
+      i.coverage = r.coverage;
+      i.colour_agreement = r.colour_agreement;
       d.instances.push_back(i);
     }
     d.num_instances = static_cast<std::int32_t>(d.instances.size());

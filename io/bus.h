@@ -22,6 +22,8 @@ struct InstanceReport {
   Eigen::Matrix4f camera_from_model = Eigen::Matrix4f::Identity();  // X_CM
   Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();
   int votes = 0;
+  // Verification's figures (Detection's): -1 when not measured.
+  float confidence = -1, fitness = -1, coverage = -1, colour_agreement = -1;
 };
 
 /// What one processed frame produced: SACCADE_DETECTIONS.

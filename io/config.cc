@@ -449,8 +449,10 @@ bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& ba
         }
         if (!ApplyRecognitionAndFovea(sections, entry, &c.config, path, error)) return false;
         std::string why;
-        if (c.pipeline != "foveated" && c.pipeline != "plain" && c.pipeline != "stock") {
-          *error = path + ": key '" + entry + ".pipeline': expected foveated | plain | stock";
+        if (c.pipeline != "foveated" && c.pipeline != "plain" && c.pipeline != "stock" &&
+            c.pipeline != "opencv-ppf") {
+          *error = path + ": key '" + entry +
+                   ".pipeline': expected foveated | plain | stock | opencv-ppf";
           return false;
         }
         if (!c.config.recognition.IsValid(&why) || !c.config.fovea.IsValid(&why)) {

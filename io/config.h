@@ -65,7 +65,7 @@ bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, s
 /// stages, or plain with PCL's stock stages: the paper's gold standard) and the options.
 struct EvalConfiguration {
   std::string name;
-  std::string pipeline = "foveated";  // foveated | plain | stock
+  std::string pipeline = "foveated";  // foveated | plain | stock (PCL) | opencv-ppf (OpenCV)
   RecognitionConfig config;
 };
 

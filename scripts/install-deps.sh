@@ -8,7 +8,7 @@ packages=(
   libpcl-dev libeigen3-dev libflann-dev
   libopenni2-dev
   liblcm-dev liblcm-bin libglib2.0-dev
-  libtbb-dev libyaml-cpp-dev
+  libtbb-dev libyaml-cpp-dev libopencv-contrib-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libtiff-dev
   gnuplot-nox
 )

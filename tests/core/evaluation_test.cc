@@ -9,6 +9,51 @@
 namespace saccade {
 namespace {
 
+TEST(WilsonInterval, MatchesTheTextbookFiguresAndStaysInsideZeroOne) {
+  const Interval a = WilsonInterval(83, 238);  // 35%: 29-41%
+  EXPECT_NEAR(a.low, 0.291, 0.001);
+  EXPECT_NEAR(a.high, 0.411, 0.001);
+  const Interval none = WilsonInterval(0, 10), all = WilsonInterval(10, 10);
+  EXPECT_EQ(none.low, 0.0);
+  EXPECT_NEAR(none.high, 0.278, 0.001);
+  EXPECT_NEAR(all.low, 0.722, 0.001);
+  EXPECT_EQ(all.high, 1.0);
+  const Interval empty = WilsonInterval(0, 0);
+  EXPECT_EQ(empty.low, 0.0);
+  EXPECT_EQ(empty.high, 1.0);
+}
+
+TEST(SymmetricPoseDistance, ZeroForATurnThatMapsTheObjectOntoItselfNotForAShift) {
+  std::vector<Eigen::Vector3f> ring;  // 12 points on a circle about z: a turn by 30 degrees
+  for (int k = 0; k < 12; ++k)
+    ring.emplace_back(0.1f * std::cos(k * float(M_PI) / 6), 0.1f * std::sin(k * float(M_PI) / 6), 0);
+  const Eigen::Matrix4f I = Eigen::Matrix4f::Identity();
+  Eigen::Matrix4f turn = I;
+  turn.topLeftCorner<3, 3>() = Eigen::AngleAxisf(float(M_PI) / 6, Eigen::Vector3f::UnitZ()).matrix();
+  EXPECT_NEAR(SymmetricPoseDistance(turn, I, ring), 0.0, 1e-6);
+  Eigen::Matrix4f lift = I;
+  lift(2, 3) = 0.01f;  // every point 1 cm off the ring's plane
+  EXPECT_NEAR(SymmetricPoseDistance(lift, I, ring), 0.01, 1e-6);
+  EXPECT_EQ(SymmetricPoseDistance(lift, I, {}), 0.0);
+}
+
+TEST(DiagnoseCase, NamesTheFirstStageThatLostTheTruth) {
+  CaseEvidence e;
+  e.correct_correspondences = 2;
+  EXPECT_EQ(DiagnoseCase(e, true), CaseStage::kNoCorrectCorrespondence);
+  EXPECT_EQ(DiagnoseCase(e, false), CaseStage::kNoHypothesis);  // no pose: matches unjudged
+  e.correct_correspondences = 12;
+  EXPECT_EQ(DiagnoseCase(e, true), CaseStage::kNoHypothesis);
+  e.true_hypotheses = {Verdict::kNotChecked};
+  EXPECT_EQ(DiagnoseCase(e, true), CaseStage::kNotVerified);
+  e.true_hypotheses = {Verdict::kNotChecked, Verdict::kColour};
+  EXPECT_EQ(DiagnoseCase(e, true), CaseStage::kRejected);
+  e.true_hypotheses = {Verdict::kUnconfident, Verdict::kTakenByBetter};
+  EXPECT_EQ(DiagnoseCase(e, true), CaseStage::kOutranked);
+  e.found = true;
+  EXPECT_EQ(DiagnoseCase(e, true), CaseStage::kFound);
+}
+
 TEST(ScoreScene, OneTruePositiveHoweverManyDetectionsLieWithinTheRadius) {
   const Eigen::Vector3f truth(0, 0, 1);
   const SceneScore s =

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 namespace saccade {
 namespace {
 
@@ -195,6 +197,77 @@ TEST(HoughGroup, RecoversAKnownRigidMotionAsAProperRotation) {
   const Eigen::Matrix3f R = found[0].model_to_scene.topLeftCorner<3, 3>();
   EXPECT_NEAR(R.determinant(), 1.0f, 1e-4f);
   EXPECT_EQ(found[0].votes, static_cast<int>(md.size()));
+}
+
+// Matches whose local frames agree on one pose, among matches that agree on nothing: the
+// consensus is found, at that pose, with the agreeing matches as its votes.
+TEST(ConsensusGroup, FindsThePoseTheAgreeingFramesGiveAmongRandomMatches) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-0.1f, 0.1f);
+  const auto random_rotation = [&] {
+    return Eigen::Quaternionf(u(rng), u(rng), u(rng), u(rng)).normalized().toRotationMatrix();
+  };
+  Eigen::Affine3f X(Eigen::AngleAxisf(1.1f, Eigen::Vector3f(-1, 2, 1).normalized()));
+  X.translation() = Eigen::Vector3f(0.2f, 0.1f, 1.1f);
+  Cloud model, scene;
+  Descriptors md, sd;
+  std::vector<std::pair<int, int>> corr;
+  const int kAgreeing = 9, kRandom = 60;
+  for (int i = 0; i < kAgreeing + kRandom; ++i) {
+    PointT p;
+    p.getVector3fMap() = Eigen::Vector3f(u(rng), u(rng), u(rng));
+    model.push_back(p);
+    const Eigen::Matrix3f L = random_rotation();  // rows: the model keypoint's frame
+    md.keypoint.push_back(i);
+    md.lrf.push_back(L);
+    PointT q = p;
+    if (i < kAgreeing) {
+      q.getVector3fMap() = X * p.getVector3fMap();
+      // The frame turned with the object, a little off as frames from another view are.
+      sd.lrf.push_back(L * X.linear().transpose() *
+                       Eigen::AngleAxisf(0.02f, Eigen::Vector3f::UnitX()).matrix());
+    } else {
+      q.getVector3fMap() = Eigen::Vector3f(u(rng), u(rng), 1 + u(rng));
+      sd.lrf.push_back(random_rotation());
+    }
+    scene.push_back(q);
+    sd.keypoint.push_back(i);
+    corr.emplace_back(i, i);
+  }
+  RecognitionOptions o;
+  o.pose_inlier_threshold_m = 0.01f;
+  const std::vector<Detection> found = ConsensusGroup(md, model, Eigen::Vector3f::Zero(), sd,
+                                                      scene, corr, o);
+  ASSERT_FALSE(found.empty());
+  EXPECT_TRUE(found[0].model_to_scene.isApprox(X.matrix(), 1e-3f)) << found[0].model_to_scene;
+  EXPECT_EQ(found[0].votes, kAgreeing);
+  for (std::size_t k = 1; k < found.size(); ++k) EXPECT_LT(found[k].votes, kAgreeing);
+  // Merged with a Hough hypothesis at the same place, the pose is proposed once.
+  Detection hough = found[0];
+  hough.votes = 20;
+  const std::vector<Detection> merged = MergeHypotheses({hough}, found, 0.02f);
+  EXPECT_EQ(merged.size(), found.size());
+  EXPECT_EQ(merged[0].votes, 20);
+}
+
+TEST(InstanceConfidence, RisesWithEachFigureAndStaysAProbability) {
+  Detection d;
+  d.votes = 10, d.fitness = 0.9f, d.coverage = 0.7f, d.colour_agreement = 0.6f;
+  const float base = InstanceConfidence(d, 1.0f);
+  EXPECT_GT(base, 0.0f);
+  EXPECT_LT(base, 1.0f);
+  Detection more = d;
+  more.colour_agreement = 0.9f;
+  EXPECT_GT(InstanceConfidence(more, 1.0f), base);
+  more = d;
+  more.votes = 40;
+  EXPECT_GT(InstanceConfidence(more, 1.0f), base);
+  EXPECT_LT(InstanceConfidence(d, 0.5f), base);  // a weaker second instance of the frame
+  Detection grey = d;
+  grey.colour_agreement = -1;  // no colour measured: the model without colour answers
+  const float g = InstanceConfidence(grey, 1.0f);
+  EXPECT_GT(g, 0.0f);
+  EXPECT_LT(g, 1.0f);
 }
 
 TEST(HoughGroup, TooFewVotesGiveNoInstance) {
@@ -397,11 +470,13 @@ TEST(VerifyInstances, KeepsTheTruePoseAndRejectsWrongOnes) {
   EXPECT_GT(kept[0].fitness, 0.9f);
   EXPECT_GT(kept[0].coverage, 0.8f);
   EXPECT_GT(kept[0].colour_agreement, 0.7f);
+  EXPECT_GT(kept[0].confidence, 0.5f);
+  EXPECT_LE(kept[0].confidence, 1.0f);
   // With every check off and no ICP, only the exclusion of overlapping instances is left: the
   // true pose and the carton moved aside are kept, the flipped and lifted ones overlap the first.
   RecognitionOptions off;
   off.verify.min_fitness = off.verify.min_coverage = off.verify.min_depth_ratio = 0;
-  off.verify.min_colour_agreement = 0;
+  off.verify.min_colour_agreement = off.verify.min_confidence = 0;
   off.verify.icp_iterations = 0;
   const std::vector<Detection> unchecked =
       VerifyInstances(model->verification(), c, scene, intrinsics, hypotheses, off.verify);

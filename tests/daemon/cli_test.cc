@@ -413,4 +413,66 @@ TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
                                              "fitted,tin-44-in-31", "fitted,pringles-31-in-24"}));
 }
 
+// Eight cases of the cross-capture benchmark (../shared/data/mosd_xcap), one of them infeasible
+// (the captures see different sides): Saccade's defaults, the fovea on the object (protocol a)
+// and 15 cm off it (b). The counts are those of the whole-set run in docs/RESULTS.md.
+TEST(Cli, EvalCrossCaptureBenchmarkSubsetFindsWhatTheWholeSetRunFound) {
+  SACCADE_REQUIRE_DATA("mosd_xcap/cases_with_pose.yaml");
+  const std::string configs =
+      WriteFile("xcap_configs.yaml", "configurations:\n  - {name: saccade, pipeline: foveated}\n");
+  const std::string out = ::testing::TempDir() + "xcap_out";
+  const CliRun r = Saccade(
+      "eval --cases " + saccade::testing::DataPath("mosd_xcap/cases_with_pose.yaml") +
+      " --data " + saccade::testing::DataPath("") + " --configs " + configs + " --out " + out +
+      " --no-plots --protocols a,b --only beige_bowl-test63-in-test62,beige_bowl-test62-in-test63,"
+      "cocoa_carton-test62-in-test63,cocoa_carton-test63-in-test62,handle_mug-test62-in-test63,"
+      "coffee_can-test36-in-test38,coffee_can-test38-in-test36,print_mug-test32-in-test34");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream csv(out + "/cases.csv");
+  std::string line;
+  std::getline(csv, line);
+  ASSERT_EQ(line.rfind("configuration,protocol,case,identity,category,feasible,found,", 0), 0u);
+  std::map<std::string, std::map<std::string, std::string>> a, b;  // case -> column -> value
+  std::vector<std::string> header;
+  {
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) header.push_back(cell);
+  }
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
+    if (line.back() == ',') cells.emplace_back();  // getline drops a last empty cell
+    ASSERT_EQ(cells.size(), header.size()) << line;
+    auto& row = (cells[1] == "a" ? a : b)[cells[2]];
+    for (std::size_t k = 0; k < cells.size(); ++k) row[header[k]] = cells[k];
+  }
+  ASSERT_EQ(a.size(), 8u);
+  ASSERT_EQ(b.size(), 8u);
+  int feasible = 0, found = 0, pose_found = 0, false_instances = 0;
+  for (auto& [name, row] : a) {
+    feasible += row["feasible"] == "1";
+    found += row["feasible"] == "1" && row["found"] == "1";
+    pose_found += row["feasible"] == "1" && row["pose_found"] == "1";
+    false_instances += std::stoi(row["false_instances"]);
+    if (row["found"] == "1") {
+      EXPECT_EQ(row["stage"], "found") << name;
+      EXPECT_LT(std::stod(row["translation_err_m"]), 0.05) << name;  // against the truth pose
+    }
+  }
+  EXPECT_EQ(feasible, 7);
+  EXPECT_EQ(a["handle_mug-test62-in-test63"]["feasible"], "0");  // reported apart
+  EXPECT_EQ(a["beige_bowl-test63-in-test62"]["category"], "\"complex scene\"");
+  EXPECT_EQ(found, 6) << r.out;
+  EXPECT_EQ(pose_found, 6) << r.out;
+  EXPECT_EQ(false_instances, 1) << r.out;
+  EXPECT_NE(a["cocoa_carton-test63-in-test62"]["stage"], "found");
+  // The report has the recall with its interval, and where the miss was lost.
+  std::ifstream report(out + "/report.md");
+  const std::string text((std::istreambuf_iterator<char>(report)), {});
+  EXPECT_NE(text.find("| saccade | a | 6/7 (86%, CI 49-97%)"), std::string::npos) << text;
+  EXPECT_NE(text.find("## Where each feasible miss was lost"), std::string::npos);
+  EXPECT_NE(text.find("## Per object"), std::string::npos);
+}
+
 }  // namespace

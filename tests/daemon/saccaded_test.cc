@@ -418,6 +418,7 @@ TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
                                        << "attention:\n  growth_step: 0.05\n  growth_max_m: 0.1\n";
   std::string text = ReadFile(config);
   text.replace(text.find("hough_threshold: 15"), 19, "hough_threshold: 100000");
+  text.replace(text.find("consensus_min_votes: 15"), 23, "consensus_min_votes: 100000");
   std::ofstream(config) << text;
   daemon.Signal(SIGHUP);
   EXPECT_TRUE(WaitFor(

@@ -74,6 +74,8 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   instance.camera_from_model.block<3, 1>(0, 3) = Eigen::Vector3f(1, 0, 2);
   instance.centroid_m = Eigen::Vector3f(1, 0, 2);
   instance.votes = 9;
+  instance.confidence = 0.875f;
+  instance.colour_agreement = -1;
   frame.instances = {instance};
   FixationReport f;
   f.seq = 7;
@@ -99,6 +101,8 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   EXPECT_NEAR(i.quat[3], std::sin(M_PI / 4), 1e-5);  // z
   EXPECT_NEAR(i.centroid[1], 1.0, 1e-5);
   EXPECT_EQ(i.votes, 9);
+  EXPECT_FLOAT_EQ(i.confidence, 0.875f);
+  EXPECT_FLOAT_EQ(i.colour_agreement, -1.0f);
   EXPECT_NEAR(got->fovea[2], 1.5, 1e-5);
   EXPECT_EQ(fixation->frame, "base_link");
   EXPECT_EQ(fixation->mode_name, "TRACKING");
