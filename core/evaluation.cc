@@ -66,8 +66,9 @@ const char* CaseStageName(CaseStage s) {
 CaseStage DiagnoseCase(const CaseEvidence& e, bool has_truth_pose) {
   if (e.found) return CaseStage::kFound;
   if (e.true_hypotheses.empty())
-    return has_truth_pose && e.correct_correspondences < 3 ? CaseStage::kNoCorrectCorrespondence
-                                                           : CaseStage::kNoHypothesis;
+    return has_truth_pose && e.correct_correspondences >= 0 && e.correct_correspondences < 3
+               ? CaseStage::kNoCorrectCorrespondence
+               : CaseStage::kNoHypothesis;
   const auto any = [&](Verdict v) {
     return std::find(e.true_hypotheses.begin(), e.true_hypotheses.end(), v) !=
            e.true_hypotheses.end();

@@ -52,7 +52,9 @@ const char* CaseStageName(CaseStage s);
 
 /// What a case's run looked like from the truth's side.
 struct CaseEvidence {
-  int correct_correspondences = 0;  // matches whose scene point the true pose explains
+  /// Matches whose scene point the true pose explains; -1 when the pipeline does not report its
+  /// matches (PCL's stock stages, OpenCV's PPF).
+  int correct_correspondences = 0;
   /// Verification's verdict on each hypothesis near the truth (model centre within the rule's
   /// distance), best-voted first; empty when none was near.
   std::vector<Verdict> true_hypotheses;

@@ -178,6 +178,7 @@ RecognitionResult RecognizeReference(const ReferenceModel& model, const Cloud& s
     for (const auto& c : clusters[i]) d.correspondences.emplace_back(c.index_query, c.index_match);
     result.instances.push_back(std::move(d));
   }
+  result.hypotheses = result.instances;  // no verification here
   result.stats.stage_ms.emplace_back("group", MsSince(t));
   result.stats.stage_ms.emplace_back("total", MsSince(t_total));
   return result;

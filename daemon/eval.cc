@@ -169,7 +169,9 @@ class Runner {
     CaseEvidence e;
     const EvalModel& m = models_[s.model];
     const Cloud& scene = *s.frame.cloud;
-    if (s.truth_pose) {
+    if (r.correspondences.empty() && r.stats.correspondences > 0) {
+      e.correct_correspondences = -1;  // matched, but the pipeline does not say what
+    } else if (s.truth_pose) {
       const float tolerance =
           std::max(0.02f, RadiiForModel(given, MeasureModel(m.cloud)).hough_bin_m);
       for (const auto& [mi, si] : r.correspondences) {
@@ -191,22 +193,22 @@ class Runner {
   // The daemon's attention loop (AttentionOptions' defaults: G grows by 0.1 m a lost frame to
   // 1 m) started with the fovea where `q` puts it, on the same frame again and again, as a
   // robot that has lost a still object: the fovea follows what is detected and grows while
-  // nothing is. It gives up when G passes G_max, or after a second's worth of frames (it may
-  // be following something false). `first` is what the trial from `q` found: the loop's first
-  // frame when its fovea is the same.
+  // nothing is; past G_max (FULL_SCAN) it recognizes in the whole frame, as the daemon does. It
+  // gives up after a second's worth of frames (it may be following something false). `first`
+  // is what the trial from `q` found: the loop's first frame when its fovea is the same.
   Acquisition Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
                       const RecognitionOptions& o,
                       const std::vector<Eigen::Vector3f>& first) const {
     constexpr int kMaxFrames = 30;
     Acquisition a;
     Attention attention(AttentionOptions{}, q.fovea_m);
-    for (int frame = 1; frame <= kMaxFrames && attention.current().mode != AttentionMode::kFullScan;
-         ++frame) {
+    for (int frame = 1; frame <= kMaxFrames; ++frame) {
       const Fixation& f = attention.current();
       const Eigen::Vector3f growth = Eigen::Vector3f::Constant(f.growth_m);
       const bool as_trial = frame == 1 && q.fovea.growth_m == growth;  // fovea_m is q's too
       q.fovea_m = f.fovea_m;
       q.fovea.growth_m = growth;
+      q.foveated = f.mode != AttentionMode::kFullScan;  // past G_max the daemon scans it all
       const std::vector<Eigen::Vector3f> centres =
           as_trial ? first : Centres(Recognize(model, *s.frame.cloud, q, o, parallel_), s);
       std::vector<Sighting> sightings;

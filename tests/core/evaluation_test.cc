@@ -44,6 +44,8 @@ TEST(DiagnoseCase, NamesTheFirstStageThatLostTheTruth) {
   EXPECT_EQ(DiagnoseCase(e, false), CaseStage::kNoHypothesis);  // no pose: matches unjudged
   e.correct_correspondences = 12;
   EXPECT_EQ(DiagnoseCase(e, true), CaseStage::kNoHypothesis);
+  e.correct_correspondences = -1;  // matches not reported: judged by the hypotheses
+  EXPECT_EQ(DiagnoseCase(e, true), CaseStage::kNoHypothesis);
   e.true_hypotheses = {Verdict::kNotChecked};
   EXPECT_EQ(DiagnoseCase(e, true), CaseStage::kNotVerified);
   e.true_hypotheses = {Verdict::kNotChecked, Verdict::kColour};
