@@ -3,7 +3,7 @@ set datafile separator ','
 set terminal pngcairo size 900,600
 set grid
 set key outside right
-names = 'saccade saccade-strict saccade-no-colour before 10 '
+names = 'saccade saccade-strict saccade-no-colour hough-colour-gate 10 saccade-ungated '
 swept = ''
 set xlabel 'distance threshold (cm)'
 set output 'thresholds_tp.png'
