@@ -53,12 +53,18 @@ double SymmetricPoseDistance(const Eigen::Matrix4f& estimate, const Eigen::Matri
 
 const char* CaseStageName(CaseStage s) {
   switch (s) {
-    case CaseStage::kFound: return "found";
-    case CaseStage::kNoCorrectCorrespondence: return "no_correct_correspondence";
-    case CaseStage::kNoHypothesis: return "no_hypothesis_near_truth";
-    case CaseStage::kNotVerified: return "true_hypothesis_not_verified";
-    case CaseStage::kRejected: return "true_hypothesis_rejected";
-    case CaseStage::kOutranked: return "outranked_by_false";
+    case CaseStage::kFound:
+      return "found";
+    case CaseStage::kNoCorrectCorrespondence:
+      return "no_correct_correspondence";
+    case CaseStage::kNoHypothesis:
+      return "no_hypothesis_near_truth";
+    case CaseStage::kNotVerified:
+      return "true_hypothesis_not_verified";
+    case CaseStage::kRejected:
+      return "true_hypothesis_rejected";
+    case CaseStage::kOutranked:
+      return "outranked_by_false";
   }
   return "?";
 }

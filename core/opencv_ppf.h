@@ -16,11 +16,11 @@ namespace saccade {
 /// to train one mOSD model on this machine (training is quadratic in the sampled points), 0.05
 /// takes about 16 s.
 struct PpfPeerOptions {
-  double relative_sampling_step = 0.05;  // of the model's extent, model and scene
-  double relative_distance_step = 0.05;   // of the diameter: the feature's distance bin
+  double relative_sampling_step = 0.05;            // of the model's extent, model and scene
+  double relative_distance_step = 0.05;            // of the diameter: the feature's distance bin
   double relative_scene_sample_step = 1.0 / 40.0;  // share of scene points used as references
-  int normal_neighbors = 10;              // k of the normals it computes itself
-  int instances = 1;                      // poses reported, most voted first
+  int normal_neighbors = 10;                       // k of the normals it computes itself
+  int instances = 1;                               // poses reported, most voted first
 };
 
 /// A model trained once by PPF3DDetector::trainModel. Immutable afterwards.

@@ -402,7 +402,8 @@ std::vector<Detection> ConsensusGroup(const Descriptors& model, const Cloud& mod
     if (pose[c].allFinite()) support[c] = int(agreeing(pose[c]).size());
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return support[a] > support[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return support[a] > support[b]; });
   std::vector<std::uint8_t> used(n, 0);
   std::vector<Detection> out;
   for (int seed : order) {
@@ -579,11 +580,11 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   result.instances = HoughGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc,
                                 scene, correspondences, options);
   if (options.consensus_grouping)
-    result.instances = MergeHypotheses(
-        std::move(result.instances),
-        ConsensusGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc, scene,
-                       correspondences, options),
-        2.0f * options.hough_bin_m);
+    result.instances =
+        MergeHypotheses(std::move(result.instances),
+                        ConsensusGroup(model.descriptors(), model.cloud(), model.centroid(),
+                                       scene_desc, scene, correspondences, options),
+                        2.0f * options.hough_bin_m);
   stats.hypotheses = result.instances.size();
   result.hypotheses = result.instances;
   stats.stage_ms.emplace_back("group", MsSince(t));
@@ -591,10 +592,9 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   // 6. Keep the hypotheses the scene confirms, refined.
   t = Clock::now();
   if (options.verify.enabled)
-    result.instances = VerifyInstances(model.verification(), model.centroid(), scene,
-                                       organized ? intrinsics : std::nullopt,
-                                       std::move(result.instances), options.verify, parallel_for,
-                                       &result.verdicts);
+    result.instances = VerifyInstances(
+        model.verification(), model.centroid(), scene, organized ? intrinsics : std::nullopt,
+        std::move(result.instances), options.verify, parallel_for, &result.verdicts);
   stats.stage_ms.emplace_back("verify", MsSince(t));
   stats.stage_ms.emplace_back("total", MsSince(t_total));
   return result;

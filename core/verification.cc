@@ -108,7 +108,7 @@ struct Check {
   Eigen::Matrix4f pose;
   int inliers = 0, against = 0;
   float thickness = 0;  // of the inlying model points: sqrt of their least covariance eigenvalue
-  std::vector<int> explained;  // scene points nearest the inlying model points
+  std::vector<int> explained;   // scene points nearest the inlying model points
   std::vector<int> explaining;  // the inlying model points, one per explained scene point
 };
 
@@ -241,13 +241,20 @@ float InstanceConfidence(const Detection& d, float relative_fit) {
 
 const char* VerdictName(Verdict v) {
   switch (v) {
-    case Verdict::kKept: return "kept";
-    case Verdict::kNotChecked: return "not_checked";
-    case Verdict::kNoFit: return "no_fit";
-    case Verdict::kFlat: return "flat";
-    case Verdict::kColour: return "colour";
-    case Verdict::kUnconfident: return "unconfident";
-    case Verdict::kTakenByBetter: return "taken_by_better";
+    case Verdict::kKept:
+      return "kept";
+    case Verdict::kNotChecked:
+      return "not_checked";
+    case Verdict::kNoFit:
+      return "no_fit";
+    case Verdict::kFlat:
+      return "flat";
+    case Verdict::kColour:
+      return "colour";
+    case Verdict::kUnconfident:
+      return "unconfident";
+    case Verdict::kTakenByBetter:
+      return "taken_by_better";
   }
   return "?";
 }

@@ -4,8 +4,8 @@
 #include "core/evaluation.h"
 #include "core/fail.h"
 #include "core/features.h"
-#include "core/recognition.h"
 #include "core/opencv_ppf.h"
+#include "core/recognition.h"
 #include "core/reference_pipeline.h"
 #include "core/segmentation.h"
 #include "daemon/args.h"
@@ -23,11 +23,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <functional>
+#include <iomanip>
 #include <map>
-#include <random>
 #include <ostream>
+#include <random>
 #include <sstream>
 
 namespace saccade {
@@ -284,9 +284,8 @@ std::map<std::string, std::string> CaseCategories(const std::string& cases_path)
 // (the other capture, with the centroid of the object's labelled points as the truth).
 // With `only` non-empty, just the cases it names (each must exist); of those, every `every`-th.
 bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
-                    const std::vector<std::string>& only, int every,
-                    std::vector<EvalModel>* models, std::vector<Scene>* scenes,
-                    std::string* error) {
+                    const std::vector<std::string>& only, int every, std::vector<EvalModel>* models,
+                    std::vector<Scene>* scenes, std::string* error) {
   std::vector<LabelledCase> cases;
   if (!LoadLabelledCases(path, data_dir, &cases, error)) return false;
   if (every > 1) {
@@ -567,12 +566,13 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
         const bool acquire = p == eval::Protocol::kAcquisition;
         if (p == eval::Protocol::kOnObject) {
           run.trials = trials[c];
-        } else if (!runner.Run(configs[c], scenes, 1,
-                               [&](std::size_t, std::size_t i) {
-                                 return acquire ? Eigen::Vector3f(0, 0, 1)
-                                                : scenes[i].truth_m + OffObject(i);
-                               },
-                               &per, acquire ? &acquisitions : nullptr, &error)) {
+        } else if (!runner.Run(
+                       configs[c], scenes, 1,
+                       [&](std::size_t, std::size_t i) {
+                         return acquire ? Eigen::Vector3f(0, 0, 1)
+                                        : scenes[i].truth_m + OffObject(i);
+                       },
+                       &per, acquire ? &acquisitions : nullptr, &error)) {
           return fail("configuration " + configs[c].name + ": " + error);
         } else {
           run.trials = std::move(per.front());

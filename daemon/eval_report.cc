@@ -12,15 +12,15 @@
 namespace saccade::eval {
 namespace {
 
-constexpr float kRuleM = 0.08f;       // the paper's rule: within 8 cm of the truth
-constexpr double kPoseRule = 0.1;     // ADD-S within a tenth of the model's diagonal
-constexpr int kAcquireFrames = 10;    // protocol (c)'s target: found within this many frames
+constexpr float kRuleM = 0.08f;           // the paper's rule: within 8 cm of the truth
+constexpr double kPoseRule = 0.1;         // ADD-S within a tenth of the model's diagonal
+constexpr int kAcquireFrames = 10;        // protocol (c)'s target: found within this many frames
 constexpr std::size_t kPosePoints = 400;  // model points ADD-S is measured over
 
 // How one trial scored against its case's truth.
 struct Scored {
-  bool found = false;      // the 8 cm rule
-  bool pose_found = false; // the pose rule (needs a truth pose)
+  bool found = false;       // the 8 cm rule
+  bool pose_found = false;  // the pose rule (needs a truth pose)
   int false_instances = 0;
   double translation_m = -1, rotation_deg = -1, adds_m = -1;  // of the best true instance
   float confidence = -1;
@@ -56,8 +56,8 @@ double Quantile(std::vector<double> v, double q) {
 std::string Percent(int k, int n) {
   std::ostringstream s;
   const Interval ci = WilsonInterval(k, n);
-  s << k << "/" << n << " (" << std::fixed << std::setprecision(0)
-    << (n ? 100.0 * k / n : 0.0) << "%, CI " << 100 * ci.low << "-" << 100 * ci.high << "%)";
+  s << k << "/" << n << " (" << std::fixed << std::setprecision(0) << (n ? 100.0 * k / n : 0.0)
+    << "%, CI " << 100 * ci.low << "-" << 100 * ci.high << "%)";
   return s.str();
 }
 
@@ -76,9 +76,12 @@ struct Summary {
 
 const char* ProtocolName(Protocol p) {
   switch (p) {
-    case Protocol::kOnObject: return "a";
-    case Protocol::kOffObject: return "b";
-    case Protocol::kAcquisition: return "c";
+    case Protocol::kOnObject:
+      return "a";
+    case Protocol::kOffObject:
+      return "b";
+    case Protocol::kAcquisition:
+      return "c";
   }
   return "?";
 }
@@ -178,13 +181,11 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
                                              : Percent(s.found, s.feasible);
       std::ostringstream row;
       row << std::fixed << std::setprecision(3) << s.FalsePerCase();
-      if (acquisition)
-        row << " (" << s.false_acquisitions << " cases saw one)";
-      md << "| " << configs[c].name << " | " << ProtocolName(runs[c][p].protocol) << " | "
-         << recall << " | " << (acquisition ? "-" : Percent(s.pose_found, s.feasible)) << " | "
+      if (acquisition) row << " (" << s.false_acquisitions << " cases saw one)";
+      md << "| " << configs[c].name << " | " << ProtocolName(runs[c][p].protocol) << " | " << recall
+         << " | " << (acquisition ? "-" : Percent(s.pose_found, s.feasible)) << " | "
          << s.infeasible_found << "/" << s.infeasible << " | " << row.str() << " | "
-         << std::setprecision(1) << Quantile(s.ms, 0.5) << " | " << Quantile(s.ms, 0.9)
-         << " |\n";
+         << std::setprecision(1) << Quantile(s.ms, 0.5) << " | " << Quantile(s.ms, 0.9) << " |\n";
       out << "  " << std::left << std::setw(24) << configs[c].name << std::right << " ("
           << ProtocolName(runs[c][p].protocol) << ") recall " << recall << ", false/case "
           << row.str() << ", median " << std::setprecision(1) << Quantile(s.ms, 0.5) << " ms\n";
@@ -192,9 +193,9 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
 
   // Where the misses of protocol (a) were lost.
   md << "\n## Where each feasible miss was lost (protocol a)\n\n| configuration";
-  const CaseStage stages[] = {CaseStage::kFound,       CaseStage::kNoCorrectCorrespondence,
+  const CaseStage stages[] = {CaseStage::kFound,        CaseStage::kNoCorrectCorrespondence,
                               CaseStage::kNoHypothesis, CaseStage::kNotVerified,
-                              CaseStage::kRejected,    CaseStage::kOutranked};
+                              CaseStage::kRejected,     CaseStage::kOutranked};
   for (CaseStage st : stages) md << " | " << CaseStageName(st);
   md << " |\n|---";
   for (std::size_t i = 0; i < std::size(stages); ++i) md << "|---";
@@ -210,7 +211,8 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
         const CaseStage st = DiagnoseCase(e, scenes[i].truth_pose.has_value());
         ++count[st];
         if (st == CaseStage::kRejected)
-          for (Verdict v : e.true_hypotheses) ++rejected_by[configs[c].name + ": " + VerdictName(v)];
+          for (Verdict v : e.true_hypotheses)
+            ++rejected_by[configs[c].name + ": " + VerdictName(v)];
       }
       md << "| " << configs[c].name;
       for (CaseStage st : stages) md << " | " << count[st];
@@ -235,7 +237,9 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
         "|---|---|---|---|---|\n";
   for (int half = 0; half < 2; ++half) {
     const auto on = [&, half](const Scene& s) { return (half_a.count(s.identity) > 0) == !half; };
-    const auto other = [&, half](const Scene& s) { return (half_a.count(s.identity) > 0) == !!half; };
+    const auto other = [&, half](const Scene& s) {
+      return (half_a.count(s.identity) > 0) == !!half;
+    };
     std::size_t best_c = 0, best_p = 0;
     double best = -1e9;
     for (std::size_t c = 0; c < runs.size(); ++c)
@@ -259,8 +263,7 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
   // Per object and per category: found / feasible, protocol (a), every configuration.
   const auto breakdown = [&](const char* title, const std::set<std::string>& keys,
                              std::string Scene::*field) {
-    md << "\n## Per " << title << " (protocol a: found / feasible, false instances)\n\n| "
-       << title;
+    md << "\n## Per " << title << " (protocol a: found / feasible, false instances)\n\n| " << title;
     for (const auto& c : configs) md << " | " << c.name;
     md << " |\n|---";
     for (std::size_t i = 0; i < configs.size(); ++i) md << "|---";
@@ -297,8 +300,8 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
           }
         if (n == 0) continue;
         md << "| " << configs[c].name << " | " << std::setprecision(1) << edges[b] << "-"
-           << std::min(1.0, edges[b + 1]) << " | " << n << " | " << t << " | "
-           << Percent(t, n) << " |\n";
+           << std::min(1.0, edges[b + 1]) << " | " << n << " | " << t << " | " << Percent(t, n)
+           << " |\n";
       }
     }
 
@@ -334,8 +337,9 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
             << s.identity << ",\"" << s.category << "\"," << s.feasible << ',' << r.found << ','
             << r.pose_found << ',' << r.false_instances << ',' << t.ms << ',' << r.translation_m
             << ',' << r.rotation_deg << ',' << r.adds_m << ',' << diagonal[s.model] << ','
-            << r.confidence << ',' << CaseStageName(DiagnoseCase(t.evidence, s.truth_pose.has_value()))
-            << ',' << t.evidence.correct_correspondences << ',' << t.stats.hypotheses << ',';
+            << r.confidence << ','
+            << CaseStageName(DiagnoseCase(t.evidence, s.truth_pose.has_value())) << ','
+            << t.evidence.correct_correspondences << ',' << t.stats.hypotheses << ',';
         if (run.protocol == Protocol::kAcquisition)
           csv << run.acquisitions[i].frames << ',' << run.acquisitions[i].false_instances;
         else

@@ -7,8 +7,8 @@
 #include "core/scenario.h"
 
 #include <functional>
-#include <optional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 

@@ -236,8 +236,8 @@ TEST(ConsensusGroup, FindsThePoseTheAgreeingFramesGiveAmongRandomMatches) {
   }
   RecognitionOptions o;
   o.pose_inlier_threshold_m = 0.01f;
-  const std::vector<Detection> found = ConsensusGroup(md, model, Eigen::Vector3f::Zero(), sd,
-                                                      scene, corr, o);
+  const std::vector<Detection> found =
+      ConsensusGroup(md, model, Eigen::Vector3f::Zero(), sd, scene, corr, o);
   ASSERT_FALSE(found.empty());
   EXPECT_TRUE(found[0].model_to_scene.isApprox(X.matrix(), 1e-3f)) << found[0].model_to_scene;
   EXPECT_EQ(found[0].votes, kAgreeing);

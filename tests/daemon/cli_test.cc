@@ -422,8 +422,8 @@ TEST(Cli, EvalCrossCaptureBenchmarkSubsetFindsWhatTheWholeSetRunFound) {
       WriteFile("xcap_configs.yaml", "configurations:\n  - {name: saccade, pipeline: foveated}\n");
   const std::string out = ::testing::TempDir() + "xcap_out";
   const CliRun r = Saccade(
-      "eval --cases " + saccade::testing::DataPath("mosd_xcap/cases_with_pose.yaml") +
-      " --data " + saccade::testing::DataPath("") + " --configs " + configs + " --out " + out +
+      "eval --cases " + saccade::testing::DataPath("mosd_xcap/cases_with_pose.yaml") + " --data " +
+      saccade::testing::DataPath("") + " --configs " + configs + " --out " + out +
       " --no-plots --protocols a,b --only beige_bowl-test63-in-test62,beige_bowl-test62-in-test63,"
       "cocoa_carton-test62-in-test63,cocoa_carton-test63-in-test62,handle_mug-test62-in-test63,"
       "coffee_can-test36-in-test38,coffee_can-test38-in-test36,print_mug-test32-in-test34");
