@@ -185,14 +185,12 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
       break;
   }
   const float tolerance = 2 * o.inlier_distance_m;
-  std::vector<Eigen::Vector3f> on_surface;
   const Eigen::Matrix3f R = c.pose.topLeftCorner<3, 3>();
   for (std::size_t m = 0; m < n_points; ++m) {
     const Eigen::Vector3f p = (c.pose * model.points[m].getVector3fMap().homogeneous()).head<3>();
     const int j = crop.Nearest(p, o.inlier_distance_m * o.inlier_distance_m).first;
     if (j >= 0) {
       ++c.inliers;
-      on_surface.push_back(model.points[m].getVector3fMap());
       c.explained.push_back(crop_index[j]);
       c.explaining.push_back(int(m));
       continue;
@@ -210,6 +208,8 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
       if (n.allFinite() && n.dot(p.normalized()) < -0.3f) ++c.against;  // facing us, sunk
     }
   }
+  std::vector<Eigen::Vector3f> on_surface;  // the inlying model points, model frame
+  for (int m : c.explaining) on_surface.push_back(model.points[m].getVector3fMap());
   c.thickness = Thickness(on_surface);
   return c;
 }

@@ -45,6 +45,13 @@ std::string Args::Get(const std::string& name, const std::string& fallback) cons
   return it == values_.end() ? fallback : it->second;
 }
 
+std::vector<std::string> Args::ParseList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream s(text);
+  for (std::string item; std::getline(s, item, ',');) out.push_back(item);
+  return out;
+}
+
 std::optional<Eigen::Vector3f> Args::ParseVector3(const std::string& text) {
   Eigen::Vector3f v;
   std::stringstream s(text);

@@ -25,6 +25,8 @@ class Args {
   static std::optional<double> ParseNumber(const std::string& text);
   /// A whole positive integer.
   static std::optional<int> ParsePositiveInt(const std::string& text);
+  /// "a,b,c" as its comma-separated items; empty for an empty text.
+  static std::vector<std::string> ParseList(const std::string& text);
 
  private:
   std::map<std::string, std::string> values_;

@@ -133,7 +133,7 @@ class Runner {
                      .count();
           t.centres = Centres(r, s);
           t.stats = r.stats;
-          if (run == 0) t.evidence = Evidence(r, s, o);
+          if (run == 0) t.evidence = Evidence(r, s, described[s.model], o);
           for (const Detection& d : r.instances) {
             t.instances.push_back(d);
             t.instances.back().correspondences.clear();
@@ -164,7 +164,9 @@ class Runner {
 
   // What the truth says of a run: matches the true pose explains (within a Hough bin of the
   // model's fitted radii), and verification's verdicts on the hypotheses near the truth.
+  // `model` is the description recognition used (nullopt for the peers, which report no matches).
   CaseEvidence Evidence(const RecognitionResult& r, const Scene& s,
+                        const std::optional<ModelDescription>& model,
                         const RecognitionOptions& given) const {
     CaseEvidence e;
     const EvalModel& m = models_[s.model];
@@ -173,7 +175,7 @@ class Runner {
       e.correct_correspondences = -1;  // matched, but the pipeline does not say what
     } else if (s.truth_pose) {
       const float tolerance =
-          std::max(0.02f, RadiiForModel(given, MeasureModel(m.cloud)).hough_bin_m);
+          std::max(0.02f, model ? RadiiForModel(given, model->scale()).hough_bin_m : 0.0f);
       for (const auto& [mi, si] : r.correspondences) {
         const Eigen::Vector3f p =
             (*s.truth_pose * m.cloud[mi].getVector3fMap().homogeneous()).head<3>();
@@ -202,13 +204,14 @@ class Runner {
     constexpr int kMaxFrames = 30;
     Acquisition a;
     Attention attention(AttentionOptions{}, q.fovea_m);
+    const bool foveated = q.foveated;
     for (int frame = 1; frame <= kMaxFrames; ++frame) {
       const Fixation& f = attention.current();
       const Eigen::Vector3f growth = Eigen::Vector3f::Constant(f.growth_m);
       const bool as_trial = frame == 1 && q.fovea.growth_m == growth;  // fovea_m is q's too
       q.fovea_m = f.fovea_m;
       q.fovea.growth_m = growth;
-      q.foveated = f.mode != AttentionMode::kFullScan;  // past G_max the daemon scans it all
+      q.foveated = foveated && f.mode != AttentionMode::kFullScan;  // past G_max: the whole frame
       const std::vector<Eigen::Vector3f> centres =
           as_trial ? first : Centres(Recognize(model, *s.frame.cloud, q, o, parallel_), s);
       std::vector<Sighting> sightings;
@@ -489,33 +492,25 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   }
   const auto repeat = Args::ParsePositiveInt(args.Get("repeat", "1"));
   if (!repeat) return Usage(err, "eval", "--repeat expects a positive integer");
-  std::vector<std::string> sweep_names;
-  if (args.Has("sweep")) {
-    std::stringstream names(args.Get("sweep"));
-    for (std::string name; std::getline(names, name, ',');) sweep_names.push_back(name);
-  }
+  const std::vector<std::string> sweep_names = Args::ParseList(args.Get("sweep"));
   for (const std::string& name : sweep_names)
     if (std::none_of(configs.begin(), configs.end(),
                      [&](const EvalConfiguration& c) { return c.name == name; }))
       return fail("--sweep: no configuration named '" + name + "'");
 
-  if (!cases && (args.Has("only") || args.Has("every")))
+  if (!cases && (args.Has("protocols") || args.Has("only") || args.Has("every")))
     return Usage(err, "eval", "--protocols, --only and --every apply to --cases only");
   std::vector<eval::Protocol> protocols;  // --cases only
-  for (char p : args.Get("protocols", cases ? "a" : "")) {
-    if (p == ',') continue;
-    if (!cases) return Usage(err, "eval", "--protocols and --only apply to --cases only");
-    if (p < 'a' || p > 'c')
+  for (const std::string& p : Args::ParseList(args.Get("protocols", cases ? "a" : ""))) {
+    if (p.size() != 1 || p[0] < 'a' || p[0] > 'c')
       return Usage(err, "eval", "--protocols expects a list of a, b, c (e.g. a,b,c)");
-    protocols.push_back(eval::Protocol(p - 'a'));
+    protocols.push_back(eval::Protocol(p[0] - 'a'));
   }
 
   std::vector<EvalModel> models;
   std::vector<Scene> scenes;
   if (cases) {
-    std::vector<std::string> only;
-    std::stringstream names(args.Get("only"));
-    for (std::string name; std::getline(names, name, ',');) only.push_back(name);
+    const std::vector<std::string> only = Args::ParseList(args.Get("only"));
     const auto every = Args::ParsePositiveInt(args.Get("every", "1"));
     if (!every) return Usage(err, "eval", "--every expects a positive integer");
     if (!LoadCaseScenes(args.Get("cases"), args.Get("data", "../shared/data"), only, *every,
