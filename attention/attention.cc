@@ -8,23 +8,6 @@
 
 namespace saccade {
 
-const char* ModeName(AttentionMode mode) {
-  switch (mode) {
-    case AttentionMode::kTracking:
-      return "TRACKING";
-    case AttentionMode::kSearching:
-      return "SEARCHING";
-    case AttentionMode::kFullScan:
-      return "FULL_SCAN";
-  }
-  return "?";
-}
-
-Eigen::Vector3f Fixation::FoveaAt(double capture_time_s, double max_horizon_s) const {
-  const double dt = std::clamp(capture_time_s - time_s, 0.0, std::max(0.0, max_horizon_s));
-  return fovea_m + velocity_mps * static_cast<float>(dt);
-}
-
 bool AttentionOptions::IsValid(std::string* error) const {
   const auto finite = [](float v) { return std::isfinite(v); };
   if (!finite(growth_min_m) || growth_min_m < 0) return Fail(error, "growth_min_m must be >= 0");
@@ -92,7 +75,7 @@ Attention::Target* Attention::Find(int id) {
   return nullptr;
 }
 
-void Attention::See(Target* target, const Sighting& s, double time_s) {
+void Attention::See(Target* target, const Detection& s, double time_s) {
   const double dt = time_s - target->last_seen_s;
   if (options_.predict && dt > 0) {
     const Eigen::Vector3f v = (s.centroid_m - target->position_m) / static_cast<float>(dt);
@@ -108,7 +91,7 @@ void Attention::See(Target* target, const Sighting& s, double time_s) {
 // same_target_m of where it should be; the followed target then takes the remaining sighting
 // nearest the fovea, however far (the paper's rule: it may have moved while lost); what is left
 // becomes new targets, nearest the fovea first, while there is room.
-void Attention::Associate(double time_s, const std::vector<Sighting>& sightings,
+void Attention::Associate(double time_s, const std::vector<Detection>& sightings,
                           bool* attended_seen) {
   std::vector<bool> used(sightings.size(), false);
   const auto nearest = [&](int model, const Eigen::Vector3f& to, float max_distance) {
@@ -165,7 +148,7 @@ void Attention::Follow(const Target& target, double time_s, const char* reason, 
 }
 
 Fixation Attention::Update(std::int64_t frame_seq, double time_s,
-                           const std::vector<Sighting>& sightings,
+                           const std::vector<Detection>& sightings,
                            const std::vector<Eigen::Vector3f>& salient_regions) {
   Fixation next = current_;
   next.frame_seq = frame_seq;

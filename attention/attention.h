@@ -5,6 +5,9 @@
 // in, one Fixation per frame out. Positions are in the camera frame, metres; times in seconds.
 #pragma once
 
+#include "core/fixation.h"
+#include "core/types.h"
+
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -12,35 +15,6 @@
 #include <vector>
 
 namespace saccade {
-
-enum class AttentionMode { kTracking, kSearching, kFullScan };
-const char* ModeName(AttentionMode mode);
-
-/// One frame's fixation: where the next frame will be foveated, and why.
-struct Fixation {
-  std::int64_t frame_seq = -1;  // the frame whose sightings produced this fixation
-  double time_s = 0;            // that frame's capture time; fovea_m is valid at this time
-  Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();
-  /// The followed target's velocity when the predictor is on, else zero.
-  Eigen::Vector3f velocity_mps = Eigen::Vector3f::Zero();
-  float growth_m = 0;  // G, applied on every axis
-  AttentionMode mode = AttentionMode::kSearching;
-  int target = -1;      // id of the followed target (stable across frames), -1 when none
-  int model = -1;       // that target's model index, -1 when none
-  int num_targets = 0;  // targets attention knows of
-  /// Why it is where it is: detected, alternate, lost, grow, full_scan, saccade, command, reset.
-  std::string reason;
-
-  /// Where to foveate a frame captured at `capture_time_s`: the fovea moved on by the velocity
-  /// for at most `max_horizon_s` (the predictor's lead; zero velocity: the fovea itself).
-  Eigen::Vector3f FoveaAt(double capture_time_s, double max_horizon_s) const;
-};
-
-/// A recognized instance as attention sees it.
-struct Sighting {
-  Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();
-  int model = 0;  // index of the model it is an instance of
-};
 
 enum class GrowthKind { kAdditive, kMultiplicative };
 enum class LostFallback { kFullScan, kSaccade };
@@ -77,7 +51,7 @@ class Attention {
 
   /// Digests one frame: its sightings (every model's instances) and, for the saccade fallback,
   /// the salient regions of its coarse level, most salient first.
-  Fixation Update(std::int64_t frame_seq, double time_s, const std::vector<Sighting>& sightings,
+  Fixation Update(std::int64_t frame_seq, double time_s, const std::vector<Detection>& sightings,
                   const std::vector<Eigen::Vector3f>& salient_regions = {});
   /// Forgets every target: searching around `fovea_m` with G_min. `reason` goes in the record.
   void Reset(const Eigen::Vector3f& fovea_m, const std::string& reason = "reset");
@@ -98,8 +72,8 @@ class Attention {
   };
 
   Target* Find(int id);
-  void Associate(double time_s, const std::vector<Sighting>& sightings, bool* attended_seen);
-  void See(Target* target, const Sighting& s, double time_s);
+  void Associate(double time_s, const std::vector<Detection>& sightings, bool* attended_seen);
+  void See(Target* target, const Detection& s, double time_s);
   void Follow(const Target& target, double time_s, const char* reason, Fixation* next);
   void Lost(const std::vector<Eigen::Vector3f>& salient, Fixation* next);
 

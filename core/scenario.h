@@ -3,6 +3,7 @@
 // scenario is a value and frame i is a function of it and i.
 #pragma once
 
+#include "core/frame.h"
 #include "core/synthetic.h"
 
 #include <optional>
@@ -67,13 +68,6 @@ struct Scenario {
 constexpr std::uint32_t kTargetLabel = 1;
 
 /// The truth of one frame, in the camera frame of that frame.
-struct GroundTruth {
-  Eigen::Isometry3f target_pose = Eigen::Isometry3f::Identity();  // X_CO
-  Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();  // centre of the target's bounding box
-  /// Visible target pixels over those it covers rendered alone (0 when out of view).
-  float visible_fraction = 0.0f;
-};
-
 struct ScenarioFrame {
   RenderedFrame rendered;
   GroundTruth truth;

@@ -2,12 +2,15 @@
 // otherwise; clouds are in the camera optical frame (x right, y down, z forward).
 #pragma once
 
+#include "core/camera.h"
+
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace saccade {
@@ -15,16 +18,6 @@ namespace saccade {
 /// The point type of every cloud Saccade handles (XYZ plus packed colour; colour may be unset).
 using PointT = pcl::PointXYZRGBA;
 using Cloud = pcl::PointCloud<PointT>;
-
-/// Pinhole intrinsics of an organized depth frame, in pixels.
-struct CameraIntrinsics {
-  double fx = 525.0;
-  double fy = 525.0;
-  double cx = 319.5;
-  double cy = 239.5;
-  int width = 640;
-  int height = 480;
-};
 
 /// An axis-aligned box [min, max] in some frame (which the owner names). Empty when any
 /// max < min.
@@ -47,6 +40,7 @@ struct Box {
 
 /// One recognized instance of the model in a scene.
 struct Detection {
+  int model = -1;  // index of the model it is an instance of, among those searched
   Eigen::Matrix4f model_to_scene = Eigen::Matrix4f::Identity();  // X_SM: model frame M in scene S
   int votes = 0;                                         // correspondences that agree on this pose
   Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();  // model centroid in the scene frame
@@ -61,6 +55,20 @@ struct Detection {
   float confidence = -1;
   /// (model keypoint index, scene keypoint index) pairs behind this instance.
   std::vector<std::pair<int, int>> correspondences;
+};
+
+/// What one processed frame produced: every model's instances and how the frame was searched
+/// (SACCADE_DETECTIONS). Positions are in the camera frame.
+struct FrameDetections {
+  std::int64_t seq = 0;            // the frame's sequence number
+  std::int64_t capture_utime = 0;  // the frame's capture time (Frame::capture_utime)
+  bool foveated = true;            // false: the whole frame was searched
+  Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();  // the fovea this frame was foveated at
+  float growth_m = 0;                                 // G it was foveated with
+  std::int64_t fixation_seq = -1;                     // the frame whose fixation was used
+  float recognize_ms = 0;                             // foveation and recognition of every model
+  std::vector<Detection> instances;
+  std::vector<std::string> models;  // the searched models' names, indexed by Detection::model
 };
 
 }  // namespace saccade

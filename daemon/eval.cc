@@ -214,10 +214,11 @@ class Runner {
       q.foveated = foveated && f.mode != AttentionMode::kFullScan;  // past G_max: the whole frame
       const std::vector<Eigen::Vector3f> centres =
           as_trial ? first : Centres(Recognize(model, *s.frame.cloud, q, o, parallel_), s);
-      std::vector<Sighting> sightings;
+      std::vector<Detection> sightings;
       bool found = false;
       for (const Eigen::Vector3f& centre : centres) {
-        sightings.push_back({centre, 0});
+        sightings.emplace_back().centroid_m = centre;
+        sightings.back().model = 0;
         if ((centre - s.truth_m).norm() <= 0.08f)
           found = true;
         else

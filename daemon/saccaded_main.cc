@@ -82,11 +82,21 @@ int main(int argc, char** argv) {
       SystemdNotify("RELOADING=1");
       DaemonSettings next;
       std::string why;
-      if (!LoadSettings(args, &next, &why) || !tracker->Reload(next, &why))
+      if (!LoadSettings(args, &next, &why)) {
         Log(LogLevel::kError, "reload failed, keeping the running configuration: " + why);
-      else
-        Log(LogLevel::kInfo, "reloaded " + args.Get("config", "the defaults"));
-      SystemdNotify("READY=1");
+        SystemdNotify("READY=1");
+        return;
+      }
+      // The models are described on the tracker's control thread; this thread stays free for
+      // the next signal.
+      tracker->Reload(
+          next, [what = args.Get("config", "the defaults")](bool ok, const std::string& e) {
+            if (ok)
+              Log(LogLevel::kInfo, "reloaded " + what);
+            else
+              Log(LogLevel::kError, "reload failed, keeping the running configuration: " + e);
+            SystemdNotify("READY=1");
+          });
       return;
     }
     Log(LogLevel::kInfo, std::string("signal ") + (signo == SIGINT ? "SIGINT" : "SIGTERM") +
@@ -98,7 +108,7 @@ int main(int argc, char** argv) {
 
   const bool watchdog = SystemdWatchdogEnabled();
   if (watchdog) Log(LogLevel::kInfo, "systemd watchdog: pinged while frames flow");
-  auto created = Tracker::Create(
+  auto created = Tracker::Open(
       settings,
       [watchdog](bool progressing) {
         if (watchdog && progressing) SystemdNotify("WATCHDOG=1");

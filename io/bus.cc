@@ -38,8 +38,8 @@ void Copy3(const Vec& v, double out[3]) {
 
 class LcmBus : public Bus {
  public:
-  LcmBus(const BusOptions& options, std::unique_ptr<lcm::LCM> lcm, CommandHandler on_command)
-      : options_(options), lcm_(std::move(lcm)), on_command_(std::move(on_command)) {
+  LcmBus(const BusOptions& options, std::unique_ptr<lcm::LCM> lcm)
+      : options_(options), lcm_(std::move(lcm)) {
     frame_name_ = options_.to_robot_frame ? options_.robot_frame : "camera";
     detections_channel_ = DetectionsChannel(options_.channel_prefix);
     fixation_channel_ = FixationChannel(options_.channel_prefix);
@@ -47,14 +47,18 @@ class LcmBus : public Bus {
     X_RC_ = options_.to_robot_frame ? options_.robot_from_camera : Eigen::Isometry3f::Identity();
   }
 
-  bool StartCommands(std::string* error) {
-    if (pipe(wake_) != 0) {
-      *error = "cannot create the command thread's wake pipe";
-      return false;
-    }
+  // The command thread's wake pipe, made at open so that a failure is an open error.
+  bool MakeWakePipe(std::string* error) {
+    if (pipe(wake_) == 0) return true;
+    *error = "cannot create the command thread's wake pipe";
+    return false;
+  }
+
+  void Subscribe(CommandHandler handler) override {
+    if (!options_.commands || receiver_.joinable()) return;
+    on_command_ = std::move(handler);
     lcm_->subscribe(CommandChannel(options_.channel_prefix), &LcmBus::OnCommand, this);
     receiver_ = std::thread([this] { Receive(); });
-    return true;
   }
 
   ~LcmBus() override {
@@ -63,12 +67,12 @@ class LcmBus : public Bus {
       const char byte = 0;
       [[maybe_unused]] const auto n = write(wake_[1], &byte, 1);
       receiver_.join();
-      close(wake_[0]);
-      close(wake_[1]);
     }
+    for (int fd : wake_)
+      if (fd >= 0) close(fd);
   }
 
-  bool Publish(const FrameReport& frame, const FixationReport& fixation) override {
+  bool Publish(const FrameDetections& frame, const Fixation& fixation) override {
     saccade::detections_t d;
     d.utime = frame.capture_utime;
     d.seq = frame.seq;
@@ -79,12 +83,13 @@ class LcmBus : public Bus {
     d.growth = frame.growth_m;
     d.fixation_seq = frame.fixation_seq;
     d.recognize_ms = frame.recognize_ms;
-    for (const InstanceReport& r : frame.instances) {
+    for (const Detection& r : frame.instances) {
       saccade::instance_t i;
       i.utime = frame.capture_utime;
       i.model = r.model;
-      i.model_name = r.model_name;
-      const Eigen::Isometry3f X_RM = X_RC_ * Eigen::Isometry3f(r.camera_from_model);
+      if (r.model >= 0 && r.model < static_cast<int>(frame.models.size()))
+        i.model_name = frame.models[static_cast<std::size_t>(r.model)];
+      const Eigen::Isometry3f X_RM = X_RC_ * Eigen::Isometry3f(r.model_to_scene);
       Copy3(X_RM.translation(), i.trans);
       const Eigen::Quaternionf q(X_RM.rotation());
       i.quat[0] = q.w(), i.quat[1] = q.x(), i.quat[2] = q.y(), i.quat[3] = q.z();
@@ -99,15 +104,14 @@ class LcmBus : public Bus {
     d.num_instances = static_cast<std::int32_t>(d.instances.size());
 
     saccade::fixation_t f;
-    f.utime = fixation.capture_utime;
-    f.seq = fixation.seq;
+    f.utime = frame.capture_utime;
+    f.seq = fixation.frame_seq;
     f.frame = frame_name_;
     Copy3(X_RC_ * fixation.fovea_m, f.fovea);
     Copy3(X_RC_.linear() * fixation.velocity_mps, f.velocity);
     f.growth = fixation.growth_m;
     f.mode = static_cast<std::int8_t>(fixation.mode);
-    static const char* const kModeNames[] = {"TRACKING", "SEARCHING", "FULL_SCAN"};
-    f.mode_name = fixation.mode >= 0 && fixation.mode < 3 ? kModeNames[fixation.mode] : "?";
+    f.mode_name = ModeName(fixation.mode);
     f.target = fixation.target;
     f.model = fixation.model;
     f.num_targets = fixation.num_targets;
@@ -215,9 +219,12 @@ class LcmBus : public Bus {
       default:
         return Reject("unknown kind " + std::to_string(m.kind));
     }
-    std::string why;
-    if (!on_command_(c, &why)) return Reject(why);
-    ++accepted_;
+    on_command_(c, [this](bool accepted, const std::string& why) {
+      if (accepted)
+        ++accepted_;
+      else
+        Reject(why);
+    });
   }
 
   const BusOptions options_;
@@ -236,16 +243,15 @@ class LcmBus : public Bus {
 
 }  // namespace
 
-std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, CommandHandler on_command,
-                                std::string* error) {
+std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error) {
   auto lcm = std::make_unique<lcm::LCM>(options.url);
   if (!lcm->good()) {
     *error = "cannot open LCM at '" + options.url +
              "' (a malformed URL, or no multicast route: see docs/LCM.md)";
     return nullptr;
   }
-  auto bus = std::make_unique<LcmBus>(options, std::move(lcm), std::move(on_command));
-  if (options.commands && !bus->StartCommands(error)) return nullptr;
+  auto bus = std::make_unique<LcmBus>(options, std::move(lcm));
+  if (options.commands && !bus->MakeWakePipe(error)) return nullptr;
   return bus;
 }
 

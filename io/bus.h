@@ -1,7 +1,11 @@
 // The daemon's messages to the robot and its commands from it, over LCM (docs/LCM.md). The
-// pipeline speaks these plain structs; only bus.cc knows the generated LCM types, so tests can
-// use memq:// or a real multicast URL through the same interface.
+// pipeline speaks core's values (FrameDetections, Fixation) and the plain structs below; only
+// bus.cc knows the generated LCM types and converts, once, on the way out and in. Tests drive
+// the tracker with an in-memory bus (io/memory_bus.h) or LCM at memq:// or a multicast URL.
 #pragma once
+
+#include "core/fixation.h"
+#include "core/types.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -13,44 +17,6 @@
 #include <vector>
 
 namespace saccade {
-
-/// One instance as published. Poses and points are in the camera frame here; the bus moves
-/// them into the robot frame when BusOptions::robot_from_camera is set.
-struct InstanceReport {
-  int model = 0;
-  std::string model_name;
-  Eigen::Matrix4f camera_from_model = Eigen::Matrix4f::Identity();  // X_CM
-  Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();
-  int votes = 0;
-  // Verification's figures (Detection's): -1 when not measured.
-  float confidence = -1, fitness = -1, coverage = -1, colour_agreement = -1;
-};
-
-/// What one processed frame produced: SACCADE_DETECTIONS.
-struct FrameReport {
-  std::int64_t capture_utime = 0;
-  std::int64_t seq = 0;
-  bool foveated = true;
-  Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();  // the fovea this frame was foveated at
-  float growth_m = 0;
-  std::int64_t fixation_seq = -1;  // the frame whose fixation was used
-  float recognize_ms = 0;
-  std::vector<InstanceReport> instances;
-};
-
-/// Where attention looks next: SACCADE_FIXATION (attention's Fixation, for the wire).
-struct FixationReport {
-  std::int64_t capture_utime = 0;
-  std::int64_t seq = 0;
-  Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();
-  Eigen::Vector3f velocity_mps = Eigen::Vector3f::Zero();
-  float growth_m = 0;
-  int mode = 1;  // 0 TRACKING, 1 SEARCHING, 2 FULL_SCAN (fixation_t's constants and names)
-  int target = -1;
-  int model = -1;
-  int num_targets = 0;
-  std::string reason;
-};
 
 struct LatencyReport {
   std::string name;
@@ -68,7 +34,7 @@ struct StatusReport {
   float fps = 0;
   std::int64_t commands_accepted = 0, commands_rejected = 0;
   int fixation_lag_max = 0;
-  int mode = 1;
+  AttentionMode mode = AttentionMode::kSearching;
   std::vector<LatencyReport> stages;
 };
 
@@ -92,17 +58,25 @@ struct BusOptions {
   float max_fovea_distance_m = 10.0f;
 };
 
-/// Called on the bus's receiving thread for each well-formed command; returns false with a
-/// reason to reject it (a model that does not load, say).
-using CommandHandler = std::function<bool(const Command& command, std::string* why)>;
+/// The handler's verdict on a command, called once, from any thread, when it is known: a
+/// command may be accepted at once (SET_FOVEA) or after work done elsewhere (SWITCH_MODEL is
+/// accepted when the model is described, rejected with the reason when it cannot be).
+using CommandReply = std::function<void(bool accepted, const std::string& why)>;
+/// Called on the bus's receiving thread for each well-formed command; must return promptly
+/// (slow work goes to another thread, which replies when done).
+using CommandHandler = std::function<void(const Command& command, CommandReply reply)>;
 
 /// Publishing is thread-safe.
 class Bus {
  public:
   virtual ~Bus() = default;
-  /// One DETECTIONS and one FIXATION message. False when LCM refused to send.
-  virtual bool Publish(const FrameReport& frame, const FixationReport& fixation) = 0;
+  /// One DETECTIONS and one FIXATION message for a processed frame (the fixation's stamp is the
+  /// frame's capture time). False when the transport refused to send.
+  virtual bool Publish(const FrameDetections& frame, const Fixation& fixation) = 0;
   virtual bool PublishStatus(const StatusReport& status) = 0;
+  /// Passes each well-formed command from now on to `handler` (nothing, with commands off in
+  /// BusOptions). Called once, before the first command is wanted.
+  virtual void Subscribe(CommandHandler handler) = 0;
   /// Commands accepted by the handler, and rejected so far: undecodable, unknown kind, out of
   /// range, or refused by the handler. Each rejection is also logged as a warning.
   virtual std::int64_t AcceptedCommands() const = 0;
@@ -110,10 +84,9 @@ class Bus {
   virtual std::string Describe() const = 0;
 };
 
-/// Opens LCM at options.url and, with commands on, a thread that receives them and passes
-/// them to `on_command`. nullptr with one line in `error` when LCM cannot be opened.
-std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, CommandHandler on_command,
-                                std::string* error);
+/// Opens LCM at options.url; with commands on, Subscribe starts a thread that receives them.
+/// nullptr with one line in `error` when LCM cannot be opened.
+std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error);
 
 /// The channel names for a prefix.
 std::string DetectionsChannel(const std::string& prefix);

@@ -11,20 +11,25 @@
 
 namespace saccade {
 
-bool DecodeFixation(const void* data, std::size_t size, FixationRecord* r) {
+bool DecodeFixation(const void* data, std::size_t size, LoggedFixation* logged) {
   saccade::fixation_t m;
   if (m.decode(data, 0, static_cast<int>(size)) < 0) return false;
-  r->utime = m.utime;
-  r->seq = m.seq;
-  r->frame = m.frame;
-  for (int i = 0; i < 3; ++i) r->fovea[i] = m.fovea[i], r->velocity[i] = m.velocity[i];
-  r->growth = m.growth;
-  r->mode = m.mode;
-  r->mode_name = m.mode_name;
-  r->target = m.target;
-  r->model = m.model;
-  r->num_targets = m.num_targets;
-  r->reason = m.reason;
+  if (m.mode < 0 || m.mode > static_cast<int>(AttentionMode::kFullScan)) return false;
+  logged->utime = m.utime;
+  logged->frame = m.frame;
+  Fixation& f = logged->fixation;
+  f.frame_seq = m.seq;
+  f.time_s = m.utime * 1e-6;
+  for (int i = 0; i < 3; ++i) {
+    f.fovea_m[i] = static_cast<float>(m.fovea[i]);
+    f.velocity_mps[i] = static_cast<float>(m.velocity[i]);
+  }
+  f.growth_m = static_cast<float>(m.growth);
+  f.mode = static_cast<AttentionMode>(m.mode);
+  f.target = m.target;
+  f.model = m.model;
+  f.num_targets = m.num_targets;
+  f.reason = m.reason;
   return true;
 }
 
@@ -46,22 +51,27 @@ FixationWriter::FixationWriter(std::ostream& out, Format format) : out_(out), fo
             "mode,target,model,num_targets,reason\n";
 }
 
-void FixationWriter::Write(const FixationRecord& r) {
+void FixationWriter::Write(const LoggedFixation& logged) {
+  const Fixation& r = logged.fixation;
   if (format_ == Format::kCsv) {
-    out_ << r.utime << ',' << r.seq << ',' << r.frame << std::setprecision(9);
-    for (double v : r.fovea) out_ << ',' << v;
-    for (double v : r.velocity) out_ << ',' << v;
-    out_ << ',' << r.growth << ',' << r.mode_name << ',' << r.target << ',' << r.model << ','
-         << r.num_targets << ',' << r.reason << '\n';
+    out_ << logged.utime << ',' << r.frame_seq << ',' << logged.frame << std::setprecision(9);
+    for (float v : r.fovea_m) out_ << ',' << double{v};
+    for (float v : r.velocity_mps) out_ << ',' << double{v};
+    out_ << ',' << double{r.growth_m} << ',' << ModeName(r.mode) << ',' << r.target << ','
+         << r.model << ',' << r.num_targets << ',' << r.reason << '\n';
   } else {
     JsonWriter j;
-    j.BeginObject().Key("utime").Value(static_cast<long long>(r.utime));
-    j.Key("seq").Value(static_cast<long long>(r.seq)).Key("frame").Value(r.frame);
+    j.BeginObject().Key("utime").Value(static_cast<long long>(logged.utime));
+    j.Key("seq").Value(static_cast<long long>(r.frame_seq)).Key("frame").Value(logged.frame);
     j.Key("fovea").BeginArray();
-    for (double v : r.fovea) j.Value(v);
+    for (float v : r.fovea_m) j.Value(double{v});
     j.EndArray().Key("velocity").BeginArray();
-    for (double v : r.velocity) j.Value(v);
-    j.EndArray().Key("growth").Value(r.growth).Key("mode").Value(r.mode_name);
+    for (float v : r.velocity_mps) j.Value(double{v});
+    j.EndArray()
+        .Key("growth")
+        .Value(double{r.growth_m})
+        .Key("mode")
+        .Value(std::string(ModeName(r.mode)));
     j.Key("target").Value(r.target).Key("model").Value(r.model);
     j.Key("num_targets").Value(r.num_targets).Key("reason").Value(r.reason).EndObject();
     out_ << j.str() << '\n';
@@ -78,7 +88,7 @@ bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
   }
   while (const lcm::LogEvent* e = log.readNextEvent()) {
     if (e->channel != channel) continue;
-    FixationRecord r;
+    LoggedFixation r;
     if (DecodeFixation(e->data, static_cast<std::size_t>(e->datalen), &r)) {
       writer->Write(r);
       ++stats->written;
@@ -95,7 +105,7 @@ struct Listener {
   FixationWriter* writer;
   FixationLogStats* stats;
   void On(const lcm::ReceiveBuffer* rbuf, const std::string&) {
-    FixationRecord r;
+    LoggedFixation r;
     if (DecodeFixation(rbuf->data, rbuf->data_size, &r)) {
       writer->Write(r);
       ++stats->written;

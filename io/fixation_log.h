@@ -2,6 +2,8 @@
 // (`saccade log-fixations`) or from an lcm-logger file (`saccade fixations`).
 #pragma once
 
+#include "core/fixation.h"
+
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -10,24 +12,16 @@
 
 namespace saccade {
 
-/// One decoded fixation_t (fields and units as in io/lcmtypes/fixation_t.lcm).
-struct FixationRecord {
-  std::int64_t utime = 0;
-  std::int64_t seq = 0;
+/// One fixation_t as logged: the fixation (back in core's shape) with its wire stamp and the
+/// frame its positions are in ("camera", or the robot frame the daemon published in).
+struct LoggedFixation {
+  std::int64_t utime = 0;  // the frame's capture time, microseconds
   std::string frame;
-  double fovea[3] = {0, 0, 0};
-  double velocity[3] = {0, 0, 0};
-  double growth = 0;
-  int mode = 0;
-  std::string mode_name;
-  int target = -1;
-  int model = -1;
-  int num_targets = 0;
-  std::string reason;
+  Fixation fixation;
 };
 
-/// Decodes one fixation_t message; false when the bytes are not one.
-bool DecodeFixation(const void* data, std::size_t size, FixationRecord* record);
+/// Decodes one fixation_t message; false when the bytes are not one (or its mode is unknown).
+bool DecodeFixation(const void* data, std::size_t size, LoggedFixation* logged);
 
 /// Writes records as CSV (with a header line) or JSON lines, chosen by the file name.
 class FixationWriter {
@@ -36,7 +30,7 @@ class FixationWriter {
   /// .csv or .jsonl; false with `error` for any other name.
   static bool FormatOf(const std::string& path, Format* format, std::string* error);
   FixationWriter(std::ostream& out, Format format);
-  void Write(const FixationRecord& record);
+  void Write(const LoggedFixation& logged);
 
  private:
   std::ostream& out_;

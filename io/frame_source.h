@@ -2,8 +2,7 @@
 // and the synthetic Kinect, behind one interface made from a spec string.
 #pragma once
 
-#include "core/scenario.h"
-#include "core/types.h"
+#include "core/frame.h"
 
 #include <cstdint>
 #include <map>
@@ -12,21 +11,6 @@
 #include <string>
 
 namespace saccade {
-
-/// One depth frame. The cloud is organized, in the camera optical frame, in metres; pixels
-/// without depth are NaN. Shared and immutable once made, so stages can hold it cheaply.
-struct Frame {
-  std::uint64_t sequence = 0;  // 0, 1, 2... in the order the source produced frames
-  /// Capture time in microseconds: the sensor's timestamp when it has one, else the
-  /// sequence's own clock (synthetic: frame time; files: rate or file order), else wall time.
-  std::int64_t capture_utime = 0;
-  /// Steady clock (SteadyNowNs) when the frame reached Saccade: latencies are measured from
-  /// here. Live sources set it when they post the frame; 0 until someone does.
-  std::int64_t arrival_steady_ns = 0;
-  std::shared_ptr<const Cloud> cloud;
-  CameraIntrinsics intrinsics;
-  std::optional<GroundTruth> truth;  // synthetic frames and recordings that carry it
-};
 
 /// Nanoseconds on the monotonic clock, for latencies.
 std::int64_t SteadyNowNs();
@@ -76,10 +60,5 @@ struct SourceSpec {
   std::map<std::string, std::string> options;
 };
 std::optional<SourceSpec> ParseSourceSpec(const std::string& spec, std::string* error);
-
-/// Depth in millimetres (0: no return) to an organized cloud in metres; `rgb` (3 bytes per
-/// pixel) may be null. Pixels whose depth is 0 become NaN.
-Cloud DepthToCloud(const std::uint16_t* depth_mm, const std::uint8_t* rgb,
-                   const CameraIntrinsics& intrinsics);
 
 }  // namespace saccade

@@ -7,8 +7,12 @@
 namespace saccade {
 namespace {
 
-Sighting At(float x, float y, float z, int model = 0) {
-  return Sighting{Eigen::Vector3f(x, y, z), model};
+// A detection of `model` whose centroid is at (x, y, z): all attention reads of it.
+Detection At(float x, float y, float z, int model = 0) {
+  Detection d;
+  d.model = model;
+  d.centroid_m = Eigen::Vector3f(x, y, z);
+  return d;
 }
 
 TEST(Attention, FollowsTheSightingNearestThePreviousFovea) {
@@ -94,7 +98,7 @@ TEST(Attention, AlternatesBetweenInstancesAndModelsOnePerFrame) {
   AttentionOptions o;
   o.max_targets = 3;
   Attention a(o, Eigen::Vector3f(0, 0, 1));
-  const std::vector<Sighting> seen = {At(-0.3f, 0, 1, 0), At(0.3f, 0, 1, 0), At(0, 0, 1.5f, 1)};
+  const std::vector<Detection> seen = {At(-0.3f, 0, 1, 0), At(0.3f, 0, 1, 0), At(0, 0, 1.5f, 1)};
   Fixation f = a.Update(0, 0.0, seen);
   EXPECT_EQ(f.num_targets, 3);
   std::vector<int> order;
@@ -119,7 +123,7 @@ TEST(Attention, GivesUpALostTargetAmongSeveralAndVisitsTheNext) {
   Attention a(o, Eigen::Vector3f(0, 0, 1));
   a.Update(0, 0.0, {At(-0.3f, 0, 1), At(0.3f, 0, 1)});
   const int followed = a.current().target;
-  const Sighting other = At(-a.current().fovea_m.x(), 0, 1);
+  const Detection other = At(-a.current().fovea_m.x(), 0, 1);
   // The followed target vanishes; the other stays visible but is not looked at.
   const Fixation lost = a.Update(1, 0.0, {other});
   EXPECT_EQ(lost.mode, AttentionMode::kSearching);
@@ -140,8 +144,10 @@ TEST(Attention, PredictorLeadsAMovingTargetAndIsOffByDefault) {
     o.predict = predict;
     Attention a(o, Eigen::Vector3f(0, 0, 1));
     Fixation f;
-    for (int i = 0; i < 10; ++i)
-      f = a.Update(i, i * dt, {Sighting{Eigen::Vector3f(0, 0, 1) + v * float(i * dt), 0}});
+    for (int i = 0; i < 10; ++i) {
+      const Eigen::Vector3f p = Eigen::Vector3f(0, 0, 1) + v * float(i * dt);
+      f = a.Update(i, i * dt, {At(p.x(), p.y(), p.z())});
+    }
     const Eigen::Vector3f truth_next = Eigen::Vector3f(0, 0, 1) + v * float(11 * dt);
     const float error = (f.FoveaAt(11 * dt, o.predict_max_horizon_s) - truth_next).norm();
     if (predict) {
@@ -178,7 +184,7 @@ TEST(Attention, InvariantsHoldOverRandomSequences) {
     Attention a(o, Eigen::Vector3f(0, 0, 1));
     Fixation previous = a.current();
     for (int i = 0; i < 200; ++i) {
-      std::vector<Sighting> seen;
+      std::vector<Detection> seen;
       const int n = std::bernoulli_distribution(0.4)(rng) ? 1 + rng() % 3 : 0;
       for (int k = 0; k < n; ++k) {
         const int model = o.max_targets > 1 ? rng() % 2 : 0;

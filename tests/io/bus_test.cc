@@ -46,7 +46,7 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
       Eigen::Translation3f(0.1f, 0.0f, 0.5f) *
       Eigen::AngleAxisf(static_cast<float>(M_PI) / 2, Eigen::Vector3f::UnitZ());
   std::string error;
-  auto bus = OpenLcmBus(options, nullptr, &error);
+  auto bus = OpenLcmBus(options, &error);
   ASSERT_TRUE(bus) << error;
 
   lcm::LCM listener(options.url);
@@ -65,23 +65,24 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   listener.subscribe("SACCADE_DETECTIONS", &Handler::OnD, &handler);
   listener.subscribe("SACCADE_FIXATION", &Handler::OnF, &handler);
 
-  FrameReport frame;
+  FrameDetections frame;
   frame.capture_utime = 123456;
   frame.seq = 7;
   frame.fovea_m = Eigen::Vector3f(0, 0, 1);
-  InstanceReport instance;
-  instance.model_name = "m.pcd";
-  instance.camera_from_model.block<3, 1>(0, 3) = Eigen::Vector3f(1, 0, 2);
+  frame.models = {"m.pcd"};
+  Detection instance;
+  instance.model = 0;
+  instance.model_to_scene.block<3, 1>(0, 3) = Eigen::Vector3f(1, 0, 2);
   instance.centroid_m = Eigen::Vector3f(1, 0, 2);
   instance.votes = 9;
   instance.confidence = 0.875f;
   instance.colour_agreement = -1;
   frame.instances = {instance};
-  FixationReport f;
-  f.seq = 7;
+  Fixation f;
+  f.frame_seq = 7;
   f.fovea_m = Eigen::Vector3f(1, 0, 2);
   f.velocity_mps = Eigen::Vector3f(1, 0, 0);
-  f.mode = 0;
+  f.mode = AttentionMode::kTracking;
   ASSERT_TRUE(Until([&] { return got && fixation; },
                     [&] {
                       bus->Publish(frame, f);
@@ -101,10 +102,14 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   EXPECT_NEAR(i.quat[3], std::sin(M_PI / 4), 1e-5);  // z
   EXPECT_NEAR(i.centroid[1], 1.0, 1e-5);
   EXPECT_EQ(i.votes, 9);
+  EXPECT_EQ(i.model, 0);
+  EXPECT_EQ(i.model_name, "m.pcd");  // the instance's model index names it
   EXPECT_FLOAT_EQ(i.confidence, 0.875f);
   EXPECT_FLOAT_EQ(i.colour_agreement, -1.0f);
   EXPECT_NEAR(got->fovea[2], 1.5, 1e-5);
   EXPECT_EQ(fixation->frame, "base_link");
+  EXPECT_EQ(fixation->utime, 123456);  // stamped with the frame's capture time
+  EXPECT_EQ(fixation->seq, 7);
   EXPECT_EQ(fixation->mode_name, "TRACKING");
   EXPECT_NEAR(fixation->velocity[1], 1.0, 1e-5);  // velocities turn but do not move
   EXPECT_NEAR(fixation->velocity[0], 0.0, 1e-5);
@@ -119,19 +124,14 @@ TEST(LcmBus, CommandsArriveInTheCameraFrameAndBadOnesAreCounted) {
   std::mutex mutex;
   std::vector<Command> commands;
   std::string error;
-  auto bus = OpenLcmBus(
-      options,
-      [&](const Command& c, std::string* why) {
-        if (c.kind == Command::Kind::kSwitchModel) {
-          *why = "no such model";
-          return false;
-        }
-        std::lock_guard<std::mutex> lock(mutex);
-        commands.push_back(c);
-        return true;
-      },
-      &error);
+  auto bus = OpenLcmBus(options, &error);
   ASSERT_TRUE(bus) << error;
+  bus->Subscribe([&](const Command& c, const CommandReply& reply) {
+    if (c.kind == Command::Kind::kSwitchModel) return reply(false, "no such model");
+    std::lock_guard<std::mutex> lock(mutex);
+    commands.push_back(c);
+    reply(true, "");
+  });
   lcm::LCM sender(options.url);
   saccade::command_t look;
   look.kind = saccade::command_t::SET_FOVEA;
@@ -176,7 +176,7 @@ TEST(LcmBus, ABadUrlIsOneClearError) {
   BusOptions options;
   options.url = "bogus://nowhere";
   std::string error;
-  EXPECT_EQ(OpenLcmBus(options, nullptr, &error), nullptr);
+  EXPECT_EQ(OpenLcmBus(options, &error), nullptr);
   EXPECT_NE(error.find("bogus://nowhere"), std::string::npos) << error;
 }
 

@@ -1,0 +1,39 @@
+// Where attention looks: the value the attention loop produces once per frame, the fovea the
+// next frame is foveated at, published as SACCADE_FIXATION and written to the fixation log.
+// Positions are in the camera frame, metres; times in seconds.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+
+namespace saccade {
+
+/// TRACKING: the fovea follows a target; SEARCHING: the target is lost and G grows;
+/// FULL_SCAN: past G_max, the whole frame is searched. The values are fixation_t's constants.
+enum class AttentionMode { kTracking = 0, kSearching = 1, kFullScan = 2 };
+/// "TRACKING", "SEARCHING" or "FULL_SCAN" (fixation_t's mode_name).
+const char* ModeName(AttentionMode mode);
+
+/// One frame's fixation: where the next frame will be foveated, and why.
+struct Fixation {
+  std::int64_t frame_seq = -1;  // the frame whose sightings produced this fixation
+  double time_s = 0;            // that frame's capture time; fovea_m is valid at this time
+  Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();
+  /// The followed target's velocity when the predictor is on, else zero.
+  Eigen::Vector3f velocity_mps = Eigen::Vector3f::Zero();
+  float growth_m = 0;  // G, applied on every axis
+  AttentionMode mode = AttentionMode::kSearching;
+  int target = -1;      // id of the followed target (stable across frames), -1 when none
+  int model = -1;       // that target's model index, -1 when none
+  int num_targets = 0;  // targets attention knows of
+  /// Why it is where it is: detected, alternate, lost, grow, full_scan, saccade, command, reset.
+  std::string reason;
+
+  /// Where to foveate a frame captured at `capture_time_s`: the fovea moved on by the velocity
+  /// for at most `max_horizon_s` (the predictor's lead; zero velocity: the fovea itself).
+  Eigen::Vector3f FoveaAt(double capture_time_s, double max_horizon_s) const;
+};
+
+}  // namespace saccade

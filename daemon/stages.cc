@@ -1,0 +1,234 @@
+#include "daemon/stages.h"
+
+#include "daemon/tbb_parallel.h"
+#include "io/cloud_io.h"
+#include "io/frame_source.h"
+#include "io/log.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace saccade {
+namespace {
+
+double Ms(std::int64_t from_ns, std::int64_t to_ns) { return (to_ns - from_ns) * 1e-6; }
+
+// How far an instance's model centroid is from where the true pose puts it. The synthetic
+// Kinect's models are cut in the object's own frame, so the true pose applies to them.
+float TruthError(const Detection& d, const GroundTruth& truth) {
+  const Eigen::Vector3f in_model = Eigen::Isometry3f(d.model_to_scene).inverse() * d.centroid_m;
+  return (d.centroid_m - truth.target_pose * in_model).norm();
+}
+
+// The human line of `service.summary: line`: mode, fovea, and the error to the truth when the
+// frame has one.
+std::string SummaryLine(const Fixation& next, const std::vector<Detection>& instances,
+                        const std::optional<GroundTruth>& truth) {
+  char line[160];
+  const Eigen::Vector3f& p = next.fovea_m;
+  const int n = std::snprintf(line, sizeof line, "%-9s fovea (%+.2f, %+.2f, %+.2f) m  G %.2f m",
+                              ModeName(next.mode), p.x(), p.y(), p.z(), next.growth_m);
+  if (!truth || n <= 0 || n >= static_cast<int>(sizeof line)) return line;
+  float best = -1;
+  for (const Detection& d : instances) {
+    const float e = TruthError(d, *truth);
+    if (best < 0 || e < best) best = e;
+  }
+  if (truth->visible_fraction < 0.2f)
+    std::snprintf(line + n, sizeof line - n, "  target hidden");
+  else if (best < 0)
+    std::snprintf(line + n, sizeof line - n, "  target not found");
+  else
+    std::snprintf(line + n, sizeof line - n, "  error %.1f cm", best * 100);
+  return line;
+}
+
+}  // namespace
+
+std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
+                                     const RecognitionOptions& options, std::string* error) {
+  Models models;
+  for (const std::string& spec : specs) {
+    std::optional<Cloud> cloud = LoadModelCloud(spec, error);
+    if (!cloud) return std::nullopt;
+    std::string why;
+    std::optional<ModelDescription> d = DescribeModel(*cloud, options, &why);
+    if (!d) {
+      *error = "model '" + spec + "': " + why;
+      return std::nullopt;
+    }
+    models.push_back(std::make_shared<const NamedModel>(NamedModel{spec, std::move(*d)}));
+  }
+  return models;
+}
+
+std::shared_ptr<const RecognizeStage::Config> RecognizeStage::MakeConfig(const DaemonSettings& s,
+                                                                         Models models) {
+  auto c = std::make_shared<Config>();
+  c->recognition = s.recognition;
+  c->fovea = s.fovea;
+  c->saliency = s.saliency;
+  c->saccade_fallback = s.attention.fallback == LostFallback::kSaccade;
+  c->predict_max_horizon_s = s.attention.predict ? s.attention.predict_max_horizon_s : 0.0f;
+  c->models = std::move(models);
+  return c;
+}
+
+std::shared_ptr<const RecognizeStage::Config> RecognizeStage::config() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return config_;
+}
+
+void RecognizeStage::SetConfig(std::shared_ptr<const Config> config) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  config_ = std::move(config);
+}
+
+void RecognizeStage::Process(Job* job) {
+  const std::int64_t t0 = SteadyNowNs();
+  const std::shared_ptr<const Config> config = this->config();
+  const Config& c = *config;
+  const Frame& frame = job->frame;
+  SceneQuery q;
+  q.foveated = job->used.mode != AttentionMode::kFullScan;
+  q.fovea_m = job->used.FoveaAt(frame.capture_utime * 1e-6, c.predict_max_horizon_s);
+  q.fovea = c.fovea;
+  q.fovea.growth_m = Eigen::Vector3f::Constant(job->used.growth_m);
+  q.intrinsics = frame.intrinsics;
+  // Verification compares colour only when both sides have it: say once when they differ.
+  if (!colour_checked_.exchange(true) && !HasColour(*frame.cloud))
+    for (const auto& model : c.models)
+      if (model->description.verification().coloured)
+        Log(LogLevel::kWarning, "model '" + model->name +
+                                    "' has colour but the frames do not: verification runs on "
+                                    "geometry alone (docs/RESULTS.md measures both)");
+  FrameDetections& out = job->detections;
+  out.seq = static_cast<std::int64_t>(frame.sequence);
+  out.capture_utime = frame.capture_utime;
+  out.foveated = q.foveated;
+  out.fovea_m = q.fovea_m;
+  out.growth_m = job->used.growth_m;
+  out.fixation_seq = job->used.frame_seq;
+  // Nested parallelism runs in the pipeline's own arena.
+  const ParallelFor parallel = TbbParallelFor();
+  for (std::size_t m = 0; m < c.models.size(); ++m) {
+    out.models.push_back(c.models[m]->name);
+    std::string error;
+    RecognitionResult r =
+        Recognize(c.models[m]->description, *frame.cloud, q, c.recognition, parallel, &error);
+    if (!error.empty()) Log(LogLevel::kDebug, "frame " + std::to_string(out.seq) + ": " + error);
+    for (Detection& d : r.instances) {
+      d.model = static_cast<int>(m);
+      out.instances.push_back(std::move(d));
+    }
+  }
+  // Only a search can end in a saccade; a tracking frame need not look for salient regions.
+  if (c.saccade_fallback && job->used.mode == AttentionMode::kSearching)
+    job->salient = SalientRegions(*frame.cloud, c.saliency);
+  out.recognize_ms = static_cast<float>(Ms(t0, SteadyNowNs()));
+}
+
+AttendStage::AttendStage(const AttentionOptions& options, const Eigen::Vector3f& initial_fovea_m)
+    : attention_(options, initial_fovea_m),
+      current_(attention_.current()),
+      initial_fovea_m_(initial_fovea_m) {}
+
+Fixation AttendStage::Current() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return current_;
+}
+
+void AttendStage::Process(Job* job) {
+  const std::int64_t t0 = SteadyNowNs();
+  std::lock_guard<std::mutex> lock(mutex_);
+  Fixation f =
+      attention_.Update(static_cast<std::int64_t>(job->frame.sequence),
+                        job->frame.capture_utime * 1e-6, job->detections.instances, job->salient);
+  if (pending_) {  // a command overrides what this frame would have done
+    if (pending_->kind == Command::Kind::kSetFovea)
+      attention_.Reset(pending_->fovea_m, "command");
+    else
+      attention_.Reset(initial_fovea_m_, "reset");
+    pending_.reset();
+    f = attention_.current();
+  }
+  current_ = f;
+  job->next = f;
+  job->attention_ms = Ms(t0, SteadyNowNs());
+}
+
+void AttendStage::Command(const saccade::Command& command) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  pending_ = command;
+}
+
+void AttendStage::SetOptions(const AttentionOptions& options,
+                             const Eigen::Vector3f& initial_fovea_m) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  attention_.SetOptions(options);
+  initial_fovea_m_ = initial_fovea_m;
+}
+
+void PublishStage::Process(Job* job) {
+  const std::int64_t t0 = SteadyNowNs();
+  const FrameDetections& frame = job->detections;
+  if (LogEnabled(LogLevel::kDebug)) {
+    std::string votes;
+    for (const Detection& d : frame.instances) votes += " " + std::to_string(d.votes);
+    Log(LogLevel::kDebug, "frame " + std::to_string(frame.seq) + ": " +
+                              std::to_string(frame.instances.size()) + " instance(s), votes" +
+                              votes + "; " + job->next.reason);
+  }
+  if (!bus_->Publish(frame, job->next))
+    Log(LogLevel::kWarning, "frame " + std::to_string(frame.seq) + ": LCM did not send it");
+  const std::int64_t t1 = SteadyNowNs();
+  const std::string summary =
+      summary_line_ ? SummaryLine(job->next, frame.instances, job->frame.truth) : "";
+
+  std::lock_guard<std::mutex> lock(mutex_);
+  recognize_.Add(frame.recognize_ms);
+  attend_.Add(job->attention_ms);
+  publish_.Add(Ms(t0, t1));
+  capture_to_publish_.Add(Ms(job->frame.arrival_steady_ns, t1));
+  run_recognize_.Add(frame.recognize_ms);
+  run_capture_to_publish_.Add(Ms(job->frame.arrival_steady_ns, t1));
+  ++processed_;
+  if (job->used.frame_seq >= 0)
+    lag_max_ = std::max<int>(lag_max_, static_cast<int>(frame.seq - job->used.frame_seq));
+  mode_ = job->next.mode;
+  if (!summary.empty()) last_summary_ = summary;
+  ++progress_;
+}
+
+void PublishStage::TakePeriod(double period_s, bool whole_run, StatusReport* s,
+                              std::string* summary) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  s->frames_processed = processed_;
+  s->fps = static_cast<float>((processed_ - (whole_run ? 0 : last_processed_)) / period_s);
+  last_processed_ = processed_;
+  s->fixation_lag_max = lag_max_;
+  lag_max_ = 0;
+  s->mode = mode_;
+  s->stages = {recognize_.TakeReport("recognize"), attend_.TakeReport("attention"),
+               publish_.TakeReport("publish"),
+               capture_to_publish_.TakeReport("capture_to_publish")};
+  *summary = last_summary_;
+}
+
+std::string PublishStage::RunLine(double seconds, const SourceStats& source) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const double in = static_cast<double>(std::max<std::uint64_t>(source.produced, 1));
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "run: %lld frames processed in %.1f s (%.1f fps), %llu of %llu dropped "
+                "(%.2f%%); recognize p50 %.1f ms p99 %.1f ms; capture-to-publish p50 %.1f ms "
+                "p99 %.1f ms",
+                static_cast<long long>(processed_), seconds, processed_ / seconds,
+                static_cast<unsigned long long>(source.dropped),
+                static_cast<unsigned long long>(source.produced), 100.0 * source.dropped / in,
+                run_recognize_.Percentile(0.5), run_recognize_.Percentile(0.99),
+                run_capture_to_publish_.Percentile(0.5), run_capture_to_publish_.Percentile(0.99));
+  return line;
+}
+
+}  // namespace saccade

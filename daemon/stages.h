@@ -1,0 +1,125 @@
+// The tracker's stages (daemon/tracker.cc runs them in a pipeline). Each owns its state and
+// the lock that guards it: Recognize may run for several frames at once, Attend and Publish run
+// serially in frame order, and the status thread reads Publish's figures.
+#pragma once
+
+#include "attention/attention.h"
+#include "core/frame.h"
+#include "core/recognition.h"
+#include "core/saliency.h"
+#include "daemon/latency_histogram.h"
+#include "daemon/settings.h"
+#include "io/bus.h"
+#include "io/frame_source.h"
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace saccade {
+
+/// One frame's trip through the stages.
+struct Job {
+  Frame frame;
+  Fixation used;                         // the fixation the frame was foveated with
+  FrameDetections detections;            // what recognition found, as published
+  std::vector<Eigen::Vector3f> salient;  // the coarse level's salient regions (saccade fallback)
+  double attention_ms = 0;
+  Fixation next;  // attention's fixation after this frame
+};
+
+/// A described model under the name (its spec) it is published with.
+struct NamedModel {
+  std::string name;
+  ModelDescription description;
+};
+using Models = std::vector<std::shared_ptr<const NamedModel>>;
+
+/// Loads and describes each model spec (a PCD file, or synthetic:target). nullopt with one
+/// line in `error` naming the model that failed.
+std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
+                                     const RecognitionOptions& options, std::string* error);
+
+/// Foveates each frame at the fixation it was given and recognizes every model in it.
+class RecognizeStage {
+ public:
+  /// What recognition runs with, swapped whole (a reload, a model switch): a frame keeps the
+  /// configuration it started with.
+  struct Config {
+    RecognitionOptions recognition;
+    FoveaOptions fovea;
+    SaliencyOptions saliency;
+    bool saccade_fallback = false;    // look for salient regions while searching
+    float predict_max_horizon_s = 0;  // the predictor's lead (0: off)
+    Models models;
+  };
+  static std::shared_ptr<const Config> MakeConfig(const DaemonSettings& settings, Models models);
+
+  explicit RecognizeStage(std::shared_ptr<const Config> config) : config_(std::move(config)) {}
+  std::shared_ptr<const Config> config() const;
+  void SetConfig(std::shared_ptr<const Config> config);
+  /// Fills job->detections and job->salient from job->frame and job->used. Thread-safe.
+  void Process(Job* job);
+
+ private:
+  mutable std::mutex mutex_;
+  std::shared_ptr<const Config> config_;     // guarded by mutex_
+  std::atomic<bool> colour_checked_{false};  // the first frame's colour against the models'
+};
+
+/// The attention loop, and the commands that move it.
+class AttendStage {
+ public:
+  AttendStage(const AttentionOptions& options, const Eigen::Vector3f& initial_fovea_m);
+  /// The fixation new frames are foveated with. Thread-safe.
+  Fixation Current() const;
+  /// Digests the job's detections into job->next (a pending command overrides it). Serial, in
+  /// frame order.
+  void Process(Job* job);
+  /// SET_FOVEA or RESET: applied after the next frame instead of what it would have done.
+  void Command(const Command& command);
+  /// New options and initial fovea (a reload); targets are kept.
+  void SetOptions(const AttentionOptions& options, const Eigen::Vector3f& initial_fovea_m);
+
+ private:
+  mutable std::mutex mutex_;
+  Attention attention_;                      // guarded by mutex_
+  Fixation current_;                         // guarded by mutex_
+  std::optional<saccade::Command> pending_;  // guarded by mutex_: the latest SET_FOVEA or RESET
+  Eigen::Vector3f initial_fovea_m_;          // guarded by mutex_: where RESET looks
+};
+
+/// Sends each frame's detections and fixation, and keeps the figures the status reports.
+class PublishStage {
+ public:
+  /// `bus` outlives the stage; with `summary_line`, a human line per status period.
+  PublishStage(Bus* bus, bool summary_line) : bus_(bus), summary_line_(summary_line) {}
+  /// Serial, in frame order: the job's detections leave with it.
+  void Process(Job* job);
+
+  /// The figures of the period since the last call (stages, fps, fixation lag, mode, frames
+  /// processed) into `status`, and the newest summary line; with `whole_run` the fps is over
+  /// every frame published (`period_s` then being the run's length). Thread-safe.
+  void TakePeriod(double period_s, bool whole_run, StatusReport* status, std::string* summary);
+  /// Frames published so far; grows while frames flow (the watchdog's pulse). Thread-safe.
+  std::int64_t Progress() const { return progress_; }
+  /// The whole run in one line (frames, fps, drops, recognize and capture-to-publish p50/p99).
+  std::string RunLine(double seconds, const SourceStats& source) const;
+
+ private:
+  Bus* const bus_;
+  const bool summary_line_;
+  mutable std::mutex mutex_;
+  LatencyHistogram recognize_, attend_, publish_, capture_to_publish_;  // this status period
+  LatencyHistogram run_recognize_, run_capture_to_publish_;             // the whole run
+  std::int64_t processed_ = 0, last_processed_ = 0;
+  int lag_max_ = 0;
+  AttentionMode mode_ = AttentionMode::kSearching;
+  std::string last_summary_;  // the newest frame's fovea and error, for the summary line
+  std::atomic<std::int64_t> progress_{0};
+};
+
+}  // namespace saccade

@@ -1,0 +1,145 @@
+// The tracker driven frame by frame, in process, with an in-memory bus: what it publishes for
+// each frame of the synthetic Kinect, how commands move it, and model switches and reloads on
+// its control thread. saccaded_test.cc runs the same tracker as a process over real LCM.
+#include "daemon/tracker.h"
+
+#include "io/memory_bus.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace saccade {
+namespace {
+
+const std::string kSourceDir = SACCADE_SOURCE_DIR;
+
+DaemonSettings DemoSettings() {
+  DaemonSettings s;
+  std::string error;
+  EXPECT_TRUE(LoadDaemonSettings(kSourceDir + "/configs/demo.yaml", &s, &error)) << error;
+  s.summary = "off";
+  // rate=0: rendered as read, so the test gets every frame (a live source drops late ones).
+  s.source = "synthetic:static?frames=6&seed=3&rate=0";
+  return s;
+}
+
+// A tracker on `settings` publishing to a MemoryBus the test keeps a pointer to.
+struct Rig {
+  explicit Rig(const DaemonSettings& settings) {
+    std::string error;
+    std::unique_ptr<FrameSource> source = OpenSource(settings.source, &error);
+    EXPECT_TRUE(source) << error;
+    frames = OpenSource(settings.source, &error);  // the same frames, for the test to feed
+    auto owned = std::make_unique<MemoryBus>();
+    bus = owned.get();
+    tracker = Tracker::Create(settings, std::move(source), std::move(owned), nullptr, &error);
+    EXPECT_TRUE(tracker) << error;
+  }
+  // Feeds the next frame of the scenario; false at its end.
+  bool Step() {
+    Frame f;
+    std::string error;
+    if (frames->Next(&f, &error) != FrameSource::Status::kFrame) return false;
+    tracker->Process(std::move(f));
+    return true;
+  }
+  std::unique_ptr<FrameSource> frames;
+  MemoryBus* bus = nullptr;
+  std::unique_ptr<Tracker> tracker;
+};
+
+TEST(Tracker, FindsTheStillTargetAndFollowsItFrameByFrame) {
+  Rig rig(DemoSettings());
+  ASSERT_TRUE(rig.tracker);
+  int steps = 0;
+  while (rig.Step()) ++steps;
+  ASSERT_EQ(steps, 6);
+  const auto published = rig.bus->Frames();
+  ASSERT_EQ(published.size(), 6u);
+  for (std::size_t i = 0; i < published.size(); ++i) {
+    const auto& [frame, fixation] = published[i];
+    EXPECT_EQ(frame.seq, static_cast<std::int64_t>(i));
+    EXPECT_EQ(fixation.frame_seq, frame.seq);
+    ASSERT_EQ(frame.models, std::vector<std::string>{"synthetic:target"});
+    // Each frame was foveated at the fixation the one before produced.
+    if (i > 0) {
+      EXPECT_EQ(frame.fixation_seq, published[i - 1].fixation.frame_seq);
+      EXPECT_TRUE(frame.fovea_m.isApprox(published[i - 1].fixation.fovea_m));
+    }
+  }
+  // The target stands still: after the first detection attention follows it, with G_min.
+  const auto& last = published.back();
+  EXPECT_EQ(last.fixation.mode, AttentionMode::kTracking);
+  EXPECT_EQ(last.fixation.growth_m, 0.0f);
+  ASSERT_FALSE(last.frame.instances.empty());
+  EXPECT_EQ(last.frame.instances[0].model, 0);
+  EXPECT_TRUE(last.fixation.fovea_m.isApprox(last.frame.instances[0].centroid_m, 1e-4f));
+}
+
+TEST(Tracker, SetFoveaMovesTheNextFixationAndResetReturnsToTheInitialFovea) {
+  const DaemonSettings settings = DemoSettings();
+  Rig rig(settings);
+  ASSERT_TRUE(rig.tracker);
+  ASSERT_TRUE(rig.Step());
+  Command look;
+  look.kind = Command::Kind::kSetFovea;
+  look.fovea_m = Eigen::Vector3f(0.5f, 0.1f, 1.5f);
+  ASSERT_TRUE(rig.bus->Send(look));
+  ASSERT_TRUE(rig.Step());
+  Command reset;
+  reset.kind = Command::Kind::kReset;
+  ASSERT_TRUE(rig.bus->Send(reset));
+  ASSERT_TRUE(rig.Step());
+  const auto published = rig.bus->Frames();
+  ASSERT_EQ(published.size(), 3u);
+  EXPECT_EQ(published[1].fixation.reason, "command");
+  EXPECT_TRUE(published[1].fixation.fovea_m.isApprox(look.fovea_m));
+  EXPECT_EQ(published[1].fixation.mode, AttentionMode::kSearching);
+  EXPECT_TRUE(published[2].frame.fovea_m.isApprox(look.fovea_m));  // foveated where asked
+  EXPECT_EQ(published[2].fixation.reason, "reset");
+  EXPECT_TRUE(published[2].fixation.fovea_m.isApprox(settings.initial_fovea_m));
+  EXPECT_EQ(rig.bus->AcceptedCommands(), 2);
+  EXPECT_EQ(rig.bus->RejectedCommands(), 0);
+}
+
+TEST(Tracker, ModelSwitchesAndReloadsRunOnTheControlThreadAndABadOneChangesNothing) {
+  DaemonSettings settings = DemoSettings();
+  Rig rig(settings);
+  ASSERT_TRUE(rig.tracker);
+  Command missing;
+  missing.kind = Command::Kind::kSwitchModel;
+  missing.model = "/nonexistent/model.pcd";
+  ASSERT_TRUE(rig.bus->Send(missing));  // returns before the model is tried
+  rig.tracker->WaitForControl();
+  EXPECT_EQ(rig.bus->RejectedCommands(), 1);
+  EXPECT_EQ(rig.bus->AcceptedCommands(), 0);
+
+  DaemonSettings bad = settings;
+  bad.models = {"/nonexistent/other.pcd"};
+  bool bad_ok = true;
+  std::string bad_error;
+  rig.tracker->Reload(bad, [&](bool ok, const std::string& e) { bad_ok = ok, bad_error = e; });
+  rig.tracker->WaitForControl();
+  EXPECT_FALSE(bad_ok);
+  EXPECT_NE(bad_error.find("/nonexistent/other.pcd"), std::string::npos) << bad_error;
+
+  // The running model still finds the target.
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(rig.Step());
+  EXPECT_FALSE(rig.bus->Frames().back().frame.instances.empty());
+
+  // A reload no instance can pass: nothing is found from the next frame on.
+  DaemonSettings strict = settings;
+  strict.recognition.hough_threshold = 100000;
+  strict.recognition.consensus_min_votes = 100000;
+  bool strict_ok = false;
+  rig.tracker->Reload(strict, [&](bool ok, const std::string&) { strict_ok = ok; });
+  rig.tracker->WaitForControl();
+  EXPECT_TRUE(strict_ok);
+  ASSERT_TRUE(rig.Step());
+  EXPECT_TRUE(rig.bus->Frames().back().frame.instances.empty());
+}
+
+}  // namespace
+}  // namespace saccade
