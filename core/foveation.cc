@@ -203,8 +203,8 @@ void ProjectedRect(const FoveaGeometry& g, const Box& box, const CameraIntrinsic
                                  (c & 4) ? box.max.z() : box.min.z());
     const Eigen::Vector3f p = X_CB * corner;
     if (p.z() < 0.05f) return;
-    const float u = static_cast<float>(k.fx * p.x() / p.z() + k.cx);
-    const float v = static_cast<float>(k.fy * p.y() / p.z() + k.cy);
+    const Eigen::Vector2f uv = k.Project(p).cast<float>();
+    const float u = uv.x(), v = uv.y();
     umin = std::min(umin, u), umax = std::max(umax, u);
     vmin = std::min(vmin, v), vmax = std::max(vmax, v);
   }

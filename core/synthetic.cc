@@ -120,9 +120,7 @@ struct Hit {
 Hit Cast(const std::vector<Placed>& placed, float table_height_m, const CameraIntrinsics& k, int u,
          int v) {
   Hit h;
-  h.d = Eigen::Vector3f(static_cast<float>((u - k.cx) / k.fx),
-                        static_cast<float>((v - k.cy) / k.fy), 1.0f)
-            .normalized();
+  h.d = k.Unproject(u, v, 1.0).normalized();
   if (h.d.y() > 1e-6f) h.t = table_height_m / h.d.y();  // the table plane, seen from above
   for (const Placed& p : placed) {
     const Eigen::Vector3f o = p.X_OC.translation();
@@ -188,9 +186,7 @@ RenderedFrame RenderScene(const std::vector<SceneObject>& objects, float table_h
         const double q = std::round(disparity / noise.disparity_step) * noise.disparity_step;
         z = k.fx * noise.baseline_m / q;
       }
-      p.z = static_cast<float>(z);
-      p.x = static_cast<float>((u - k.cx) * z / k.fx);
-      p.y = static_cast<float>((v - k.cy) * z / k.fy);
+      p.getVector3fMap() = k.Unproject(u, v, z);
       f.label[static_cast<std::size_t>(v) * k.width + u] = h.label;
       if (h.label) p.r = 200, p.g = 60, p.b = 40;
     }
@@ -214,7 +210,8 @@ std::size_t CountReturns(const std::vector<SceneObject>& objects, float table_he
     }
     // The sphere's image lies within its centre's projection +- f R / (z - R).
     const double ru = k.fx * p.radius / near + 1, rv = k.fy * p.radius / near + 1;
-    const double cu = k.fx * c.x() / c.z() + k.cx, cv = k.fy * c.y() / c.z() + k.cy;
+    const Eigen::Vector2d uv = k.Project(c);
+    const double cu = uv.x(), cv = uv.y();
     u0 = std::min(u0, static_cast<int>(std::floor(std::max(0.0, cu - ru))));
     v0 = std::min(v0, static_cast<int>(std::floor(std::max(0.0, cv - rv))));
     u1 = std::max(u1, static_cast<int>(std::ceil(std::min(k.width - 1.0, cu + ru))));

@@ -52,8 +52,8 @@ std::vector<float> Crop(const Cloud& scene, const std::optional<CameraIntrinsics
   int u0 = 0, u1 = int(scene.width) - 1, v0 = 0, v1 = int(scene.height) - 1, step = 1;
   const float near_z = centre.z() - radius_m;
   if (k && scene.height > 1 && near_z > 0.05f) {
-    const float u = float(k->fx) * centre.x() / centre.z() + float(k->cx);
-    const float v = float(k->fy) * centre.y() / centre.z() + float(k->cy);
+    const Eigen::Vector2f uv = k->Project(centre).cast<float>();
+    const float u = uv.x(), v = uv.y();
     const float half = float(std::max(k->fx, k->fy)) * radius_m / near_z + 1;
     u0 = std::max(u0, int(std::floor(u - half)));
     u1 = std::min(u1, int(std::ceil(u + half)));
