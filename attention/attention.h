@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/fixation.h"
+#include "core/schema.h"
 #include "core/types.h"
 
 #include <Eigen/Core>
@@ -42,6 +43,27 @@ struct AttentionOptions {
   float velocity_smoothing = 0.5f;     // weight of the newest velocity estimate, (0, 1]
 
   bool IsValid(std::string* error) const;
+  bool operator==(const AttentionOptions& o) const { return SameFields(*this, o); }
+  bool operator!=(const AttentionOptions& o) const { return !(*this == o); }
+  /// The keys of the `attention` section (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("growth_min_m", &growth_min_m);
+    a->Visit("growth_max_m", &growth_max_m);
+    a->Choice(
+        "growth", &growth_kind,
+        {{"additive", GrowthKind::kAdditive}, {"multiplicative", GrowthKind::kMultiplicative}});
+    a->Visit("growth_step", &growth_step);
+    a->Visit("growth_floor_m", &growth_floor_m);
+    a->Choice("fallback", &fallback,
+              {{"full_scan", LostFallback::kFullScan}, {"saccade", LostFallback::kSaccade}});
+    a->Visit("saccade_region_m", &saccade_region_m);
+    a->Visit("max_targets", &max_targets);
+    a->Visit("same_target_m", &same_target_m);
+    a->Visit("predict", &predict);
+    a->Visit("predict_max_horizon_s", &predict_max_horizon_s);
+    a->Visit("velocity_smoothing", &velocity_smoothing);
+  }
 };
 
 /// Serial state machine; call Update once per frame, in frame order. Not thread-safe.

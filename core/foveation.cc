@@ -22,10 +22,11 @@ std::string VecStr(const Eigen::Vector3f& v) {
 }  // namespace
 
 bool FoveaOptions::IsValid(std::string* error) const {
-  if (levels_m < 1)
-    return Fail(error,
-                "levels_m must be >= 1 (two levels at least), got " + std::to_string(levels_m));
-  if (levels_m > 32) return Fail(error, "levels_m must be <= 32, got " + std::to_string(levels_m));
+  if (finest_level < 1)
+    return Fail(error, "finest_level must be >= 1 (two levels at least), got " +
+                           std::to_string(finest_level));
+  if (finest_level > 32)
+    return Fail(error, "finest_level must be <= 32, got " + std::to_string(finest_level));
   if (!outer_box_from_scene) {
     if (!AllFinite(outer_size_m)) return Fail(error, "outer_size_m must be finite");
     if ((outer_size_m.array() <= 0).any())
@@ -43,23 +44,24 @@ bool FoveaOptions::IsValid(std::string* error) const {
   if (!AllFinite(growth_m)) return Fail(error, "growth_m must be finite");
   if ((growth_m.array() < 0).any())
     return Fail(error, "growth_m must be >= 0, got " + VecStr(growth_m));
-  if (!std::isfinite(density_0_m) || density_0_m < 0)
-    return Fail(error, "density_0_m must be finite and >= 0");
-  if (!std::isfinite(density_m_m) || density_m_m < 0)
-    return Fail(error, "density_m_m must be finite and >= 0");
-  if (!std::isfinite(keypoint_radius_0_m) || keypoint_radius_0_m <= 0)
-    return Fail(error, "keypoint_radius_0_m must be finite and > 0");
-  if (!std::isfinite(keypoint_radius_m_m) || keypoint_radius_m_m <= 0)
-    return Fail(error, "keypoint_radius_m_m must be finite and > 0");
+  if (!std::isfinite(outer_density_m) || outer_density_m < 0)
+    return Fail(error, "outer_density_m must be finite and >= 0");
+  if (!std::isfinite(inner_density_m) || inner_density_m < 0)
+    return Fail(error, "inner_density_m must be finite and >= 0");
+  if (!std::isfinite(outer_keypoint_radius_m) || outer_keypoint_radius_m <= 0)
+    return Fail(error, "outer_keypoint_radius_m must be finite and > 0");
+  if (!std::isfinite(inner_keypoint_radius_m) || inner_keypoint_radius_m <= 0)
+    return Fail(error, "inner_keypoint_radius_m must be finite and > 0");
   return true;
 }
 
 float LevelDensity(const FoveaOptions& o, int k) {
-  return o.density_0_m + k * (o.density_m_m - o.density_0_m) / o.levels_m;
+  return o.outer_density_m + k * (o.inner_density_m - o.outer_density_m) / o.finest_level;
 }
 
 float LevelKeypointRadius(const FoveaOptions& o, int k) {
-  return o.keypoint_radius_0_m + k * (o.keypoint_radius_m_m - o.keypoint_radius_0_m) / o.levels_m;
+  return o.outer_keypoint_radius_m +
+         k * (o.inner_keypoint_radius_m - o.outer_keypoint_radius_m) / o.finest_level;
 }
 
 Eigen::Vector3f LevelDisplacement(int k, int m, const Eigen::Vector3f& outer_size,
@@ -111,7 +113,7 @@ FoveaGeometry ComputeFoveaGeometry(const FoveaOptions& o, const Box& scene_bound
   }
   g.fovea_in_box_m = g.box_from_camera * fovea_camera;
   const Eigen::Vector3f F = g.fovea_in_box_m - 0.5f * g.outer_size_m;  // relative to centre
-  const int m = o.levels_m;
+  const int m = o.finest_level;
   g.levels.resize(m + 1);
   for (int k = 0; k <= m; ++k) {
     const Eigen::Vector3f delta = LevelDisplacement(k, m, g.outer_size_m, o.inner_size_m, F);

@@ -2,6 +2,7 @@
 // (the fovea), each level downsampled to its own density, levels disjoint (Algorithm 1).
 #pragma once
 
+#include "core/schema.h"
 #include "core/types.h"
 
 #include <cstdint>
@@ -15,7 +16,7 @@ namespace saccade {
 /// are Saccade's (measured in docs/BENCHMARKS.md); the paper's Table 2 values are noted where
 /// they differ and are shipped as configs/paper.yaml.
 struct FoveaOptions {
-  int levels_m = 2;  // m: number of levels minus one (m >= 1); paper: 3
+  int finest_level = 2;  // m: number of levels minus one (m >= 1); paper: 3
   /// When true the outer box is the axis-aligned bounding box of each scene's finite points and
   /// outer_size_m / outer_min_corner_m / outer_orientation are ignored.
   bool outer_box_from_scene = true;
@@ -25,13 +26,30 @@ struct FoveaOptions {
   Eigen::Quaternionf outer_orientation = Eigen::Quaternionf::Identity();
   Eigen::Vector3f inner_size_m{0.25f, 0.25f, 0.25f};  // S_m: the fovea's own box; paper: 0.5
   Eigen::Vector3f growth_m{0.0f, 0.0f, 0.0f};         // G: every level grows by G on each side
-  float density_0_m = 0.03f;          // d_0: voxel leaf of the coarsest level (0 keeps every point)
-  float density_m_m = 0.0f;           // d_m: voxel leaf of the fovea level (0 keeps every point)
-  float keypoint_radius_0_m = 0.08f;  // r_0: keypoint sampling radius of level 0
-  float keypoint_radius_m_m = 0.012f;  // r_m: keypoint sampling radius of level m; paper: 0.02
+  float outer_density_m = 0.03f;  // d_0: voxel leaf of the coarsest level (0 keeps every point)
+  float inner_density_m = 0.0f;   // d_m: voxel leaf of the fovea level (0 keeps every point)
+  float outer_keypoint_radius_m = 0.08f;   // r_0: keypoint sampling radius of level 0
+  float inner_keypoint_radius_m = 0.012f;  // r_m: keypoint sampling radius of level m; paper: 0.02
 
   /// Returns true when usable; otherwise false with `error` naming the offending field.
   bool IsValid(std::string* error) const;
+  bool operator==(const FoveaOptions& o) const { return SameFields(*this, o); }
+  bool operator!=(const FoveaOptions& o) const { return !(*this == o); }
+  /// The keys of the `fovea` section (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("finest_level", &finest_level);
+    a->Visit("outer_box_from_scene", &outer_box_from_scene);
+    a->Visit("outer_size_m", &outer_size_m);
+    a->Visit("outer_min_corner_m", &outer_min_corner_m);
+    a->Visit("outer_orientation", &outer_orientation);
+    a->Visit("inner_size_m", &inner_size_m);
+    a->Visit("growth_m", &growth_m);
+    a->Visit("outer_density_m", &outer_density_m);
+    a->Visit("inner_density_m", &inner_density_m);
+    a->Visit("outer_keypoint_radius_m", &outer_keypoint_radius_m);
+    a->Visit("inner_keypoint_radius_m", &inner_keypoint_radius_m);
+  }
 };
 
 /// d_k = d_0 + k (d_m - d_0) / m, the leaf of level k.

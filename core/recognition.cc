@@ -109,6 +109,18 @@ RecognitionOptions FitRadii(const RecognitionOptions& base, const ModelScale& sc
   return o;
 }
 
+std::vector<std::string> RecognitionOptions::IgnoredKeys() const {
+  if (!radii_from_model) return {};
+  return {"scene_keypoint_radius_m",
+          "scene_shot_radius_m",
+          "scene_lrf_radius_m",
+          "model_keypoint_radius_m",
+          "model_shot_radius_m",
+          "model_lrf_radius_m",
+          "hough_bin_m",
+          "pose_inlier_threshold_m"};
+}
+
 RecognitionOptions RadiiForModel(const RecognitionOptions& options, const ModelScale& scale) {
   return options.radii_from_model ? FitRadii(options, scale) : options;
 }
@@ -487,12 +499,12 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
       return result;
     }
     const FoveaGeometry geometry = ComputeFoveaGeometry(query.fovea, *bounds, query.fovea_m);
-    int first = query.fovea.levels_m;
+    int first = query.fovea.finest_level;
     while (first > 0 && LevelDensity(query.fovea, first - 1) <= options.max_described_density_m)
       --first;
     level_points =
         FoveateIndices(scene, query.fovea, geometry, first, organized ? &*intrinsics : nullptr);
-    for (int k = 0; k <= query.fovea.levels_m; ++k)
+    for (int k = 0; k <= query.fovea.finest_level; ++k)
       level_radius.push_back(LevelKeypointRadius(query.fovea, k));
     result.fovea = geometry;
   } else {

@@ -69,6 +69,38 @@ struct RecognitionOptions {
   bool radii_from_model = true;
 
   bool IsValid(std::string* error) const;
+  bool operator==(const RecognitionOptions& o) const { return SameFields(*this, o); }
+  bool operator!=(const RecognitionOptions& o) const { return !(*this == o); }
+  /// The keys of the `recognition` section (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("scene_normal_neighbors", &scene_normal_neighbors);
+    a->Visit("scene_keypoint_radius_m", &scene_keypoint_radius_m);
+    a->Visit("scene_shot_radius_m", &scene_shot_radius_m);
+    a->Visit("scene_lrf_radius_m", &scene_lrf_radius_m);
+    a->Visit("model_normal_neighbors", &model_normal_neighbors);
+    a->Visit("model_keypoint_radius_m", &model_keypoint_radius_m);
+    a->Visit("model_shot_radius_m", &model_shot_radius_m);
+    a->Visit("model_lrf_radius_m", &model_lrf_radius_m);
+    a->Visit("max_descriptor_sqr_distance", &max_descriptor_sqr_distance);
+    a->Visit("hough_bin_m", &hough_bin_m);
+    a->Visit("hough_threshold", &hough_threshold);
+    a->Visit("pose_inlier_threshold_m", &pose_inlier_threshold_m);
+    a->Visit("max_described_density_m", &max_described_density_m);
+    a->Visit("max_support_half_window_px", &max_support_half_window_px);
+    a->Visit("vote_for_model_origin", &vote_for_model_origin);
+    a->Visit("match_branching", &match_branching);
+    a->Visit("match_checks", &match_checks);
+    a->Visit("match_seed", &match_seed);
+    a->Visit("radii_from_model", &radii_from_model);
+    a->Visit("consensus_grouping", &consensus_grouping);
+    a->Visit("consensus_min_votes", &consensus_min_votes);
+    a->Visit("consensus_max_hypotheses", &consensus_max_hypotheses);
+    verify.Serialize(a);
+  }
+  /// The keys FitRadii replaces while radii_from_model is set: a file that sets them is told
+  /// they are ignored.
+  std::vector<std::string> IgnoredKeys() const;
 
   /// The paper's Table 1 as given: hand-set radii, every support pixel, and the slower, nearer
   /// exact match Saccade used before fitted radii.

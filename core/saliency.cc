@@ -1,11 +1,21 @@
 #include "core/saliency.h"
 
+#include "core/fail.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <tuple>
 
 namespace saccade {
+
+bool SaliencyOptions::IsValid(std::string* error) const {
+  if (stride_px < 1) return Fail(error, "stride_px must be >= 1");
+  if (!(cell_m > 0)) return Fail(error, "cell_m must be > 0");
+  if (!(edge_jump_m > 0)) return Fail(error, "edge_jump_m must be > 0");
+  if (max_regions < 1) return Fail(error, "max_regions must be >= 1");
+  return true;
+}
 
 std::vector<Eigen::Vector3f> SalientRegions(const Cloud& cloud, const SaliencyOptions& options) {
   if (cloud.height <= 1 || options.stride_px < 1 || options.cell_m <= 0) return {};

@@ -31,6 +31,23 @@ struct Trajectory {
 
   Eigen::Vector2f PositionAt(double t_s) const;
   float YawAt(double t_s) const;
+
+  /// The keys of a scenario's `target_motion` and `camera_motion` sections (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Choice("kind", &kind,
+              {{"static", Kind::kStatic},
+               {"linear", Kind::kLinear},
+               {"circular", Kind::kCircular},
+               {"leave-return", Kind::kLeaveReturn}});
+    a->Visit("start_xz_m", &start_xz_m);
+    a->Visit("velocity_xz_mps", &velocity_xz_mps);
+    a->Visit("centre_xz_m", &centre_xz_m);
+    a->Visit("radius_m", &radius_m);
+    a->Visit("period_s", &period_s);
+    a->Visit("yaw_rad", &yaw_rad);
+    a->Visit("yaw_rate_radps", &yaw_rate_radps);
+  }
 };
 
 /// Everything that makes a sequence. Frame i is captured at t = i / rate_hz.

@@ -54,6 +54,19 @@ struct KinectNoise {
   /// The IR projector sits baseline_m to the camera's right (+x in the camera frame), as on a
   /// Kinect: surfaces it cannot light, beside the left edges of nearer objects, have no return.
   bool projector_shadows = true;
+
+  /// The keys of a scenario's `noise` section (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("enabled", &enabled);
+    a->Visit("sigma_at_1m_m", &sigma_at_1m_m);
+    a->Visit("disparity_step", &disparity_step);
+    a->Visit("baseline_m", &baseline_m);
+    a->Visit("min_range_m", &min_range_m);
+    a->Visit("max_range_m", &max_range_m);
+    a->Visit("grazing_cos", &grazing_cos);
+    a->Visit("projector_shadows", &projector_shadows);
+  }
 };
 
 struct RenderedFrame {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/parallel.h"
+#include "core/schema.h"
 #include "core/types.h"
 
 #include <cstdint>
@@ -45,6 +46,26 @@ struct VerificationOptions {
   float max_sink_m = 0.05f;
 
   bool IsValid(std::string* error) const;
+  bool operator==(const VerificationOptions& o) const { return SameFields(*this, o); }
+  bool operator!=(const VerificationOptions& o) const { return !(*this == o); }
+  /// The keys, as they appear in the recognition section (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("verify", &enabled);
+    a->Visit("verify_candidates", &max_candidates);
+    a->Visit("verify_model_points", &model_points);
+    a->Visit("verify_icp_points", &icp_points);
+    a->Visit("verify_icp_iterations", &icp_iterations);
+    a->Visit("verify_icp_max_distance_m", &icp_max_distance_m);
+    a->Visit("verify_inlier_distance_m", &inlier_distance_m);
+    a->Visit("verify_min_fitness", &min_fitness);
+    a->Visit("verify_min_coverage", &min_coverage);
+    a->Visit("verify_min_depth_ratio", &min_depth_ratio);
+    a->Visit("verify_min_colour_agreement", &min_colour_agreement);
+    a->Visit("verify_min_confidence", &min_confidence);
+    a->Visit("verify_colour", &use_colour);
+    a->Visit("verify_max_sink_m", &max_sink_m);
+  }
 };
 
 /// What verification needs of the model, prepared once: an even subset of its points with their

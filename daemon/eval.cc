@@ -88,7 +88,9 @@ class Runner {
     trials->assign(placements, {});
     if (acquisitions) acquisitions->assign(placements, {});
     const RecognitionOptions& o = c.config.recognition;
-    const bool is_stock = c.pipeline == "stock", is_ppf = c.pipeline == "opencv-ppf";
+    using Pipeline = EvalConfiguration::Pipeline;
+    const bool is_stock = c.pipeline == Pipeline::kStock,
+               is_ppf = c.pipeline == Pipeline::kOpencvPpf;
     // ReferenceModel is move-constructible only: built in place.
     std::vector<std::optional<ReferenceModel>> stock(models_.size());
     std::vector<std::optional<ModelDescription>> described(models_.size());
@@ -110,7 +112,7 @@ class Runner {
       for (std::size_t i = 0; i < scenes.size(); ++i) {
         const Scene& s = scenes[i];
         SceneQuery q;
-        q.foveated = c.pipeline == "foveated";
+        q.foveated = c.pipeline == Pipeline::kFoveated;
         q.fovea_m = fovea(k, i);
         q.fovea = c.config.fovea;
         q.intrinsics = s.frame.intrinsics;
@@ -554,7 +556,9 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     for (std::size_t c = 0; c < configs.size(); ++c)
       for (eval::Protocol p : protocols) {
         // Where the fovea is matters to foveated recognition only.
-        if (p != eval::Protocol::kOnObject && configs[c].pipeline != "foveated") continue;
+        if (p != eval::Protocol::kOnObject &&
+            configs[c].pipeline != EvalConfiguration::Pipeline::kFoveated)
+          continue;
         eval::ProtocolRun run;
         run.protocol = p;
         std::vector<std::vector<Trial>> per;
@@ -600,15 +604,15 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
       speedup << std::fixed << std::setprecision(1) << reference_ms / std::max(1e-9, mean_ms[c]);
     const std::string tp_s = sphere_radius ? std::to_string(t.tp_sphere) : "";
     const std::string fp_s = sphere_radius ? std::to_string(t.fp_sphere) : "";
-    csv << configs[c].name << ',' << configs[c].pipeline << ',' << mean_ms[c] << ',' << t.tp << ','
-        << t.fp << ',' << tp_s << ',' << fp_s << ',' << scenes.size() << ',' << speedup.str()
+    csv << configs[c].name << ',' << configs[c].PipelineName() << ',' << mean_ms[c] << ',' << t.tp
+        << ',' << t.fp << ',' << tp_s << ',' << fp_s << ',' << scenes.size() << ',' << speedup.str()
         << "\n";
-    md << "| " << configs[c].name << " | " << configs[c].pipeline << " | " << std::fixed
+    md << "| " << configs[c].name << " | " << configs[c].PipelineName() << " | " << std::fixed
        << std::setprecision(1) << mean_ms[c] << " | " << t.tp << " | " << t.fp << " | "
        << (sphere_radius ? tp_s : "-") << " | " << (sphere_radius ? fp_s : "-") << " | "
        << (reference_ms > 0 ? speedup.str() : "-") << " |\n";
-    out << std::setw(10) << configs[c].name << std::setw(10) << configs[c].pipeline << std::setw(10)
-        << mean_ms[c] << " ms  TP " << t.tp << "  FP " << t.fp;
+    out << std::setw(10) << configs[c].name << std::setw(10) << configs[c].PipelineName()
+        << std::setw(10) << mean_ms[c] << " ms  TP " << t.tp << "  FP " << t.fp;
     if (sphere_radius) out << "  (sphere fit: TP " << t.tp_sphere << "  FP " << t.fp_sphere << ")";
     if (reference_ms > 0) out << "  " << speedup.str() << "x vs " << reference;
     out << "\n";

@@ -66,9 +66,7 @@ int main(int argc, char** argv) {
     std::cerr << "saccaded: error: " << error << "\n";
     return kExitUsage;
   }
-  LogLevel level = LogLevel::kInfo;
-  ParseLogLevel(settings.log_level, &level);
-  ConfigureLog("saccaded", level);
+  ConfigureLog("saccaded", settings.service.log_level);
 
   // Signals are turned into calls here before any thread starts, so every thread inherits
   // the mask and only the waiter's thread sees them.

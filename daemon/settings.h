@@ -7,11 +7,50 @@
 #include "core/recognition.h"
 #include "core/saliency.h"
 #include "io/bus.h"
+#include "io/log.h"
 
 #include <string>
 #include <vector>
 
 namespace saccade {
+
+/// How frames go through the tracker (the `pipeline` section).
+struct PipelineOptions {
+  /// Frames in the pipeline at once, in [1, 16]. 1 gives the lowest latency when a frame fits
+  /// in the sensor period (recognition already uses every core); 2 overlaps frames for
+  /// throughput.
+  int frames_in_flight = 1;
+  int threads = 0;  // worker threads; 0: one per core
+
+  bool IsValid(std::string* error) const;
+  bool operator==(const PipelineOptions& o) const { return SameFields(*this, o); }
+  bool operator!=(const PipelineOptions& o) const { return !(*this == o); }
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("frames_in_flight", &frames_in_flight);
+    a->Visit("threads", &threads);
+  }
+};
+
+/// The service's own behaviour (the `service` section).
+struct ServiceOptions {
+  enum class Summary { kOff, kLine };  // line: one human line per status period on stdout
+  LogLevel log_level = LogLevel::kInfo;
+  double status_period_s = 1.0;  // SACCADE_STATUS period, >= 0.05
+  Summary summary = Summary::kOff;
+
+  bool IsValid(std::string* error) const;
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Choice("log_level", &log_level,
+              {{"debug", LogLevel::kDebug},
+               {"info", LogLevel::kInfo},
+               {"warning", LogLevel::kWarning},
+               {"error", LogLevel::kError}});
+    a->Visit("status_period_s", &status_period_s);
+    a->Choice("summary", &summary, {{"off", Summary::kOff}, {"line", Summary::kLine}});
+  }
+};
 
 struct DaemonSettings {
   std::string source = "openni2://";  // a frame source spec (docs/SOURCES.md)
@@ -19,19 +58,30 @@ struct DaemonSettings {
   std::vector<std::string> models;
   Eigen::Vector3f initial_fovea_m{0.0f, 0.0f, 1.0f};  // camera frame, before any detection
   RecognitionOptions recognition;
-  FoveaOptions fovea;
+  FoveaOptions fovea;  // growth_m is attention's to set: a file may not
   AttentionOptions attention;
   SaliencyOptions saliency;
-  /// Frames in the pipeline at once (>= 1). 1 gives the lowest latency when a frame fits in the
-  /// sensor period (recognition already uses every core); 2 overlaps frames for throughput.
-  int frames_in_flight = 1;
-  int threads = 0;  // worker threads; 0: one per core
+  PipelineOptions pipeline;
   BusOptions bus;
-  std::string log_level = "info";  // debug | info | warning | error
-  double status_period_s = 1.0;    // SACCADE_STATUS period
-  std::string summary = "off";     // off | line: one human line per status period on stdout
+  ServiceOptions service;
 
   bool IsValid(std::string* error) const;
+  bool operator==(const DaemonSettings& o) const { return SameFields(*this, o); }
+  /// The keys of configs/saccaded.yaml (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("source", &source);
+    a->Visit("model", &models);
+    a->Visit("initial_fovea_m", &initial_fovea_m);
+    a->Section("recognition", &recognition);
+    a->Section("fovea", &fovea);
+    a->Section("attention", &attention);
+    a->Section("saliency", &saliency);
+    a->Section("pipeline", &pipeline);
+    a->Section("lcm", &bus);
+    a->Section("robot_frame", &bus.robot);
+    a->Section("service", &service);
+  }
 };
 
 /// The paper's defaults (Tables 1 and 2) with Saccade's service settings. A default-constructed

@@ -20,26 +20,12 @@ namespace {
 
 double Seconds(std::int64_t from_ns, std::int64_t to_ns) { return (to_ns - from_ns) * 1e-9; }
 
-bool SameModelRadii(const RecognitionOptions& a, const RecognitionOptions& b) {
-  return a.model_normal_neighbors == b.model_normal_neighbors &&
-         a.model_keypoint_radius_m == b.model_keypoint_radius_m &&
-         a.model_shot_radius_m == b.model_shot_radius_m &&
-         a.model_lrf_radius_m == b.model_lrf_radius_m && a.match_branching == b.match_branching &&
-         a.match_checks == b.match_checks && a.match_seed == b.match_seed &&
-         a.vote_for_model_origin == b.vote_for_model_origin &&
-         a.radii_from_model == b.radii_from_model && a.verify.model_points == b.verify.model_points;
-}
-
 // The settings a running tracker cannot change, by the name the log gives them.
 std::vector<std::string> NeedRestart(const DaemonSettings& was, const DaemonSettings& next) {
   std::vector<std::string> kept;
   if (next.source != was.source) kept.push_back("source");
-  if (next.bus.url != was.bus.url || next.bus.channel_prefix != was.bus.channel_prefix ||
-      next.bus.commands != was.bus.commands || next.bus.to_robot_frame != was.bus.to_robot_frame ||
-      !next.bus.robot_from_camera.isApprox(was.bus.robot_from_camera))
-    kept.push_back("lcm/robot_frame");
-  if (next.frames_in_flight != was.frames_in_flight || next.threads != was.threads)
-    kept.push_back("pipeline");
+  if (next.bus != was.bus) kept.push_back("lcm/robot_frame");
+  if (next.pipeline != was.pipeline) kept.push_back("pipeline");
   return kept;
 }
 
@@ -54,7 +40,7 @@ struct Tracker::Impl {
         heartbeat(std::move(heartbeat_)),
         recognize(RecognizeStage::MakeConfig(s, std::move(models))),
         attend(s.attention, s.initial_fovea_m),
-        publish(bus.get(), s.summary == "line") {}
+        publish(bus.get(), s.service.summary == ServiceOptions::Summary::kLine) {}
 
   // The control thread is stopped first, while the bus it replies through is alive; then the
   // bus, whose receiver may still post (and is refused); the stages after.
@@ -136,7 +122,9 @@ void Tracker::Impl::ApplyReload(const DaemonSettings& next, const Done& done) {
   std::lock_guard<std::mutex> lock(models_mutex);
   const auto old = recognize.config();
   Models models = old->models;
-  if (next.models != model_specs || !SameModelRadii(next.recognition, old->recognition)) {
+  // A model's description depends on the recognition options (its radii, the match index,
+  // verification's sample): any change describes the models again.
+  if (next.models != model_specs || next.recognition != old->recognition) {
     std::string why;
     std::optional<Models> described = DescribeModels(next.models, next.recognition, &why);
     if (!described) return done(false, why);
@@ -168,7 +156,7 @@ StatusReport Tracker::Impl::PublishStatus(double period_s, bool final) {
   std::string summary;
   publish.TakePeriod(period_s, final, &s, &summary);
   if (!bus->PublishStatus(s)) Log(LogLevel::kWarning, "status: LCM did not send it");
-  if (settings.summary == "line" && !final) {
+  if (settings.service.summary == ServiceOptions::Summary::kLine && !final) {
     std::printf("%6.1f s  %5.1f fps  drops %-4lld %s\n", s.uptime_s, s.fps,
                 static_cast<long long>(s.frames_dropped), summary.c_str());
     std::fflush(stdout);
@@ -198,11 +186,12 @@ std::shared_ptr<Job> Tracker::Impl::NextJob(std::string* source_error) {
 
 void Tracker::Impl::RunPipeline(std::string* source_error) {
   using JobPtr = std::shared_ptr<Job>;
-  const int threads = settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
+  const int threads =
+      settings.pipeline.threads > 0 ? settings.pipeline.threads : tbb::info::default_concurrency();
   tbb::task_arena arena(threads);
   arena.execute([&] {
     tbb::parallel_pipeline(
-        static_cast<std::size_t>(settings.frames_in_flight),
+        static_cast<std::size_t>(settings.pipeline.frames_in_flight),
         tbb::make_filter<void, JobPtr>(tbb::filter_mode::serial_in_order, [&](tbb::flow_control&
                                                                                   fc) {
           JobPtr job = NextJob(source_error);
@@ -279,7 +268,8 @@ void Tracker::WaitForControl() { impl_->control.Flush(); }
 bool Tracker::Run(std::string* error) {
   Impl& s = *impl_;
   Log(LogLevel::kInfo, "source " + s.source->Describe() + "; LCM " + s.bus->Describe() + "; " +
-                           std::to_string(s.settings.frames_in_flight) + " frames in flight");
+                           std::to_string(s.settings.pipeline.frames_in_flight) +
+                           " frames in flight");
   // The status thread: a heartbeat at the status period, and the watchdog's pulse.
   std::mutex status_mutex;
   std::condition_variable status_cv;
@@ -287,9 +277,9 @@ bool Tracker::Run(std::string* error) {
   std::thread status([&] {
     std::int64_t seen = s.publish.Progress();
     std::unique_lock<std::mutex> lock(status_mutex);
-    const auto period = std::chrono::duration<double>(s.settings.status_period_s);
+    const auto period = std::chrono::duration<double>(s.settings.service.status_period_s);
     while (!status_cv.wait_for(lock, period, [&] { return status_done; })) {
-      const StatusReport status = s.PublishStatus(s.settings.status_period_s, false);
+      const StatusReport status = s.PublishStatus(s.settings.service.status_period_s, false);
       const std::int64_t now = s.publish.Progress();
       const bool waiting = status.paused || status.source_state.rfind("reconnecting", 0) == 0;
       if (s.heartbeat) s.heartbeat(now != seen || waiting);

@@ -1,5 +1,6 @@
 #include "io/bus.h"
 
+#include "core/fail.h"
 #include "io/log.h"
 
 #include <poll.h>
@@ -40,11 +41,12 @@ class LcmBus : public Bus {
  public:
   LcmBus(const BusOptions& options, std::unique_ptr<lcm::LCM> lcm)
       : options_(options), lcm_(std::move(lcm)) {
-    frame_name_ = options_.to_robot_frame ? options_.robot_frame : "camera";
+    frame_name_ = options_.robot.enabled ? options_.robot.name : "camera";
     detections_channel_ = DetectionsChannel(options_.channel_prefix);
     fixation_channel_ = FixationChannel(options_.channel_prefix);
     status_channel_ = StatusChannel(options_.channel_prefix);
-    X_RC_ = options_.to_robot_frame ? options_.robot_from_camera : Eigen::Isometry3f::Identity();
+    X_RC_ =
+        options_.robot.enabled ? options_.robot.RobotFromCamera() : Eigen::Isometry3f::Identity();
   }
 
   // The command thread's wake pipe, made at open so that a failure is an open error.
@@ -242,6 +244,21 @@ class LcmBus : public Bus {
 };
 
 }  // namespace
+
+bool RobotFrameOptions::IsValid(std::string* error) const {
+  if (name.empty()) return Fail(error, "name must not be empty");
+  if (!translation_m.allFinite()) return Fail(error, "translation_m must be finite");
+  if (!rotation.coeffs().allFinite() || std::abs(rotation.norm() - 1.0f) > 1e-3f)
+    return Fail(error, "rotation must be a unit quaternion [w, x, y, z]");
+  return true;
+}
+
+bool BusOptions::IsValid(std::string* error) const {
+  if (url.empty()) return Fail(error, "url must not be empty");
+  if (channel_prefix.empty()) return Fail(error, "channel_prefix must not be empty");
+  if (!(max_fovea_distance_m > 0)) return Fail(error, "max_fovea_distance_m must be > 0");
+  return true;
+}
 
 std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error) {
   auto lcm = std::make_unique<lcm::LCM>(options.url);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/fixation.h"
+#include "core/schema.h"
 #include "core/types.h"
 
 #include <Eigen/Core>
@@ -46,16 +47,51 @@ struct Command {
   std::string model;                                  // kSwitchModel
 };
 
+/// Where the camera C sits in the robot frame R, when poses are published in R.
+struct RobotFrameOptions {
+  bool enabled = false;  // publish in R (else in the camera frame, named "camera")
+  std::string name = "base_link";
+  Eigen::Vector3f translation_m = Eigen::Vector3f::Zero();       // C's origin in R
+  Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();  // R_RC, [w, x, y, z]
+
+  /// X_RC. Precondition: IsValid().
+  Eigen::Isometry3f RobotFromCamera() const {
+    Eigen::Isometry3f X_RC = Eigen::Isometry3f::Identity();
+    X_RC.translate(translation_m);
+    X_RC.rotate(rotation.normalized());
+    return X_RC;
+  }
+  bool IsValid(std::string* error) const;
+  bool operator==(const RobotFrameOptions& o) const { return SameFields(*this, o); }
+  /// The keys of the `robot_frame` section (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("enabled", &enabled);
+    a->Visit("name", &name);
+    a->Visit("translation_m", &translation_m);
+    a->Visit("rotation", &rotation);
+  }
+};
+
 struct BusOptions {
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
   std::string channel_prefix = "SACCADE";  // channels are PREFIX_DETECTIONS, PREFIX_FIXATION, ...
   bool commands = true;                    // subscribe to PREFIX_COMMAND
-  /// Publish in the robot frame: X_RC, the camera C in the robot frame R, and R's name.
-  bool to_robot_frame = false;
-  Eigen::Isometry3f robot_from_camera = Eigen::Isometry3f::Identity();
-  std::string robot_frame = "base_link";
   /// A SET_FOVEA farther than this from the camera is out of range, metres.
   float max_fovea_distance_m = 10.0f;
+  RobotFrameOptions robot;
+
+  bool IsValid(std::string* error) const;
+  bool operator==(const BusOptions& o) const { return SameFields(*this, o) && robot == o.robot; }
+  bool operator!=(const BusOptions& o) const { return !(*this == o); }
+  /// The keys of the `lcm` section (core/schema.h); `robot` is a section of its own.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("url", &url);
+    a->Visit("channel_prefix", &channel_prefix);
+    a->Visit("commands", &commands);
+    a->Visit("max_fovea_distance_m", &max_fovea_distance_m);
+  }
 };
 
 /// The handler's verdict on a command, called once, from any thread, when it is known: a

@@ -1,6 +1,10 @@
 #include "io/config.h"
 
+#include "io/log.h"
+
 #include <yaml-cpp/yaml.h>
+
+#include <algorithm>
 
 #include <functional>
 #include <map>
@@ -62,7 +66,16 @@ bool ApplyKey(const std::map<std::string, Setter>& setters, const std::string& k
               std::string* error) {
   auto it = setters.find(key);
   if (it == setters.end()) {
-    *error = path + ": key '" + qualified + "': unknown key";
+    // Keys renamed for readability (issue 20): say what they are called now.
+    static const std::map<std::string, std::string> kRenamed = {
+        {"levels_m", "finest_level"},
+        {"density_0_m", "outer_density_m"},
+        {"density_m_m", "inner_density_m"},
+        {"keypoint_radius_0_m", "outer_keypoint_radius_m"},
+        {"keypoint_radius_m_m", "inner_keypoint_radius_m"}};
+    const auto renamed = kRenamed.find(key);
+    *error = path + ": key '" + qualified + "': unknown key" +
+             (renamed == kRenamed.end() ? "" : " (it is now '" + renamed->second + "')");
     return false;
   }
   try {
@@ -76,7 +89,7 @@ bool ApplyKey(const std::map<std::string, Setter>& setters, const std::string& k
 
 bool ApplySection(const YAML::Node& section, const std::string& name,
                   const std::map<std::string, Setter>& setters, const std::string& path,
-                  std::string* error) {
+                  std::string* error, std::vector<std::string>* set = nullptr) {
   if (!section.IsMap()) {
     *error = path + ": key '" + name + "': expected a mapping";
     return false;
@@ -84,6 +97,25 @@ bool ApplySection(const YAML::Node& section, const std::string& name,
   for (const auto& kv : section) {
     const std::string key = kv.first.as<std::string>();
     if (!ApplyKey(setters, key, name + "." + key, kv.second, path, error)) return false;
+    if (set) set->push_back(name + "." + key);
+  }
+  return true;
+}
+
+// A mapping's keys applied through `schema`: its top keys and its sections, named in errors
+// and in `set` after `prefix` ("" or "configurations[2].").
+bool ApplySchema(const YAML::Node& node, const ConfigSchema& schema, const std::string& prefix,
+                 const std::string& path, std::string* error, std::vector<std::string>* set) {
+  for (const auto& kv : node) {
+    const std::string key = kv.first.as<std::string>();
+    if (auto section = schema.sections.find(key); section != schema.sections.end()) {
+      if (!ApplySection(kv.second, prefix + key, section->second.setters, path, error, set))
+        return false;
+    } else if (!ApplyKey(schema.top.setters, key, prefix + key, kv.second, path, error)) {
+      return false;
+    } else if (set) {
+      set->push_back(prefix + key);
+    }
   }
   return true;
 }
@@ -105,31 +137,6 @@ bool LoadRoot(const std::string& path, YAML::Node* root, std::string* error) {
     return false;
   }
   return true;
-}
-
-std::map<std::string, Setter> TrajectoryKeys(Trajectory* t) {
-  return {
-      {"kind",
-       [t](const YAML::Node& n) {
-         const std::string kind = n.as<std::string>();
-         using Kind = Trajectory::Kind;
-         const std::map<std::string, Kind> kinds = {{"static", Kind::kStatic},
-                                                    {"linear", Kind::kLinear},
-                                                    {"circular", Kind::kCircular},
-                                                    {"leave-return", Kind::kLeaveReturn}};
-         auto it = kinds.find(kind);
-         if (it == kinds.end())
-           throw YAML::Exception(n.Mark(), "expected static, linear, circular or leave-return");
-         t->kind = it->second;
-       }},
-      {"start_xz_m", Vector2(&t->start_xz_m)},
-      {"velocity_xz_mps", Vector2(&t->velocity_xz_mps)},
-      {"centre_xz_m", Vector2(&t->centre_xz_m)},
-      {"radius_m", Scalar(&t->radius_m)},
-      {"period_s", Scalar(&t->period_s)},
-      {"yaw_rad", Scalar(&t->yaw_rad)},
-      {"yaw_rate_radps", Scalar(&t->yaw_rate_radps)},
-  };
 }
 
 // clutter: a list replacing the preset's, each item
@@ -185,7 +192,6 @@ bool LoadScenario(const std::string& path, Scenario* scenario, std::string* erro
   }
   Scenario& s = *scenario;
   s = *preset;
-  KinectNoise& n = s.noise;
   const std::map<std::string, Setter> top = {
       {"preset", [](const YAML::Node&) {}},
       {"name", Scalar(&s.name)},
@@ -197,16 +203,9 @@ bool LoadScenario(const std::string& path, Scenario* scenario, std::string* erro
       {"occluded_frames", Scalar(&s.occluded_frames)},
   };
   const std::map<std::string, std::map<std::string, Setter>> sections = {
-      {"target_motion", TrajectoryKeys(&s.target_motion)},
-      {"camera_motion", TrajectoryKeys(&s.camera_motion)},
-      {"noise",
-       {{"enabled", Scalar(&n.enabled)},
-        {"sigma_at_1m_m", Scalar(&n.sigma_at_1m_m)},
-        {"disparity_step", Scalar(&n.disparity_step)},
-        {"baseline_m", Scalar(&n.baseline_m)},
-        {"min_range_m", Scalar(&n.min_range_m)},
-        {"max_range_m", Scalar(&n.max_range_m)},
-        {"grazing_cos", Scalar(&n.grazing_cos)}}},
+      {"target_motion", KeysOf(&s.target_motion).setters},
+      {"camera_motion", KeysOf(&s.camera_motion).setters},
+      {"noise", KeysOf(&s.noise).setters},
   };
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
@@ -238,6 +237,9 @@ ConfigKeys& ConfigKeys::Add(const std::string& key, unsigned* f) { return Add(ke
 ConfigKeys& ConfigKeys::Add(const std::string& key, float* f) { return Add(key, Scalar(f)); }
 ConfigKeys& ConfigKeys::Add(const std::string& key, double* f) { return Add(key, Scalar(f)); }
 ConfigKeys& ConfigKeys::Add(const std::string& key, std::string* f) { return Add(key, Scalar(f)); }
+ConfigKeys& ConfigKeys::Add(const std::string& key, Eigen::Vector2f* f) {
+  return Add(key, Vector2(f));
+}
 ConfigKeys& ConfigKeys::Add(const std::string& key, Eigen::Vector3f* f) {
   return Add(key, Vector3(f));
 }
@@ -258,13 +260,13 @@ ConfigKeys& ConfigKeys::Add(const std::string& key, std::vector<std::string>* f)
     }
   });
 }
-ConfigKeys& ConfigKeys::AddChoice(const std::string& key, int* f,
-                                  const std::vector<std::string>& names) {
-  return Add(key, [f, names](const YAML::Node& n) {
+ConfigKeys& ConfigKeys::AddChoice(const std::string& key, const std::vector<std::string>& names,
+                                  std::function<void(int)> set) {
+  return Add(key, [set, names](const YAML::Node& n) {
     const std::string value = n.IsScalar() ? n.as<std::string>() : "";
     for (std::size_t i = 0; i < names.size(); ++i) {
       if (names[i] == value) {
-        *f = static_cast<int>(i);
+        set(static_cast<int>(i));
         return;
       }
     }
@@ -274,85 +276,31 @@ ConfigKeys& ConfigKeys::AddChoice(const std::string& key, int* f,
   });
 }
 
-ConfigKeys RecognitionKeys(RecognitionOptions* r) {
-  ConfigKeys k;
-  k.Add("scene_normal_neighbors", &r->scene_normal_neighbors)
-      .Add("scene_keypoint_radius_m", &r->scene_keypoint_radius_m)
-      .Add("scene_shot_radius_m", &r->scene_shot_radius_m)
-      .Add("scene_lrf_radius_m", &r->scene_lrf_radius_m)
-      .Add("model_normal_neighbors", &r->model_normal_neighbors)
-      .Add("model_keypoint_radius_m", &r->model_keypoint_radius_m)
-      .Add("model_shot_radius_m", &r->model_shot_radius_m)
-      .Add("model_lrf_radius_m", &r->model_lrf_radius_m)
-      .Add("max_descriptor_sqr_distance", &r->max_descriptor_sqr_distance)
-      .Add("hough_bin_m", &r->hough_bin_m)
-      .Add("hough_threshold", &r->hough_threshold)
-      .Add("pose_inlier_threshold_m", &r->pose_inlier_threshold_m)
-      .Add("max_described_density_m", &r->max_described_density_m)
-      .Add("max_support_half_window_px", &r->max_support_half_window_px)
-      .Add("vote_for_model_origin", &r->vote_for_model_origin)
-      .Add("match_branching", &r->match_branching)
-      .Add("match_checks", &r->match_checks)
-      .Add("match_seed", &r->match_seed)
-      .Add("radii_from_model", &r->radii_from_model)
-      .Add("consensus_grouping", &r->consensus_grouping)
-      .Add("consensus_min_votes", &r->consensus_min_votes)
-      .Add("consensus_max_hypotheses", &r->consensus_max_hypotheses)
-      .Add("verify", &r->verify.enabled)
-      .Add("verify_candidates", &r->verify.max_candidates)
-      .Add("verify_model_points", &r->verify.model_points)
-      .Add("verify_icp_points", &r->verify.icp_points)
-      .Add("verify_icp_iterations", &r->verify.icp_iterations)
-      .Add("verify_icp_max_distance_m", &r->verify.icp_max_distance_m)
-      .Add("verify_inlier_distance_m", &r->verify.inlier_distance_m)
-      .Add("verify_min_fitness", &r->verify.min_fitness)
-      .Add("verify_min_coverage", &r->verify.min_coverage)
-      .Add("verify_min_depth_ratio", &r->verify.min_depth_ratio)
-      .Add("verify_min_colour_agreement", &r->verify.min_colour_agreement)
-      .Add("verify_min_confidence", &r->verify.min_confidence)
-      .Add("verify_colour", &r->verify.use_colour)
-      .Add("verify_max_sink_m", &r->verify.max_sink_m);
-  return k;
-}
-
-ConfigKeys FoveaKeys(FoveaOptions* f) {
-  ConfigKeys k;
-  k.Add("levels_m", &f->levels_m)
-      .Add("outer_box_from_scene", &f->outer_box_from_scene)
-      .Add("outer_size_m", &f->outer_size_m)
-      .Add("outer_min_corner_m", &f->outer_min_corner_m)
-      .Add("outer_orientation", &f->outer_orientation)
-      .Add("inner_size_m", &f->inner_size_m)
-      .Add("growth_m", &f->growth_m)
-      .Add("density_0_m", &f->density_0_m)
-      .Add("density_m_m", &f->density_m_m)
-      .Add("keypoint_radius_0_m", &f->keypoint_radius_0_m)
-      .Add("keypoint_radius_m_m", &f->keypoint_radius_m_m);
-  return k;
-}
-
-bool ApplyConfigFile(const std::string& path, const ConfigKeys& top,
-                     const std::map<std::string, ConfigKeys>& sections, std::string* error) {
+bool ApplyConfigFile(const std::string& path, const ConfigSchema& schema, std::string* error,
+                     std::vector<std::string>* set) {
   YAML::Node root;
   if (!LoadRoot(path, &root, error)) return false;
   if (root.IsNull()) return true;
-  for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
-    if (auto section = sections.find(key); section != sections.end()) {
-      if (!ApplySection(kv.second, key, section->second.setters, path, error)) return false;
-    } else if (!ApplyKey(top.setters, key, key, kv.second, path, error)) {
-      return false;
-    }
-  }
-  return true;
+  return ApplySchema(root, schema, "", path, error, set);
+}
+
+void WarnIgnoredKeys(const std::string& path, const std::string& prefix,
+                     const RecognitionOptions& recognition, const std::vector<std::string>& set) {
+  for (const std::string& key : recognition.IgnoredKeys())
+    if (std::find(set.begin(), set.end(), prefix + key) != set.end())
+      Log(LogLevel::kWarning, path + ": key '" + prefix + key +
+                                  "' is ignored while radii_from_model is true (the radii are "
+                                  "fitted to each model)");
 }
 
 bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, std::string* error) {
   RecognitionOptions& r = config->recognition;
   FoveaOptions& f = config->fovea;
-  if (!ApplyConfigFile(path, ConfigKeys{},
-                       {{"recognition", RecognitionKeys(&r)}, {"fovea", FoveaKeys(&f)}}, error))
-    return false;
+  ConfigSchema schema;
+  schema.sections = {{"recognition", KeysOf(&r)}, {"fovea", KeysOf(&f)}};
+  std::vector<std::string> set;
+  if (!ApplyConfigFile(path, schema, error, &set)) return false;
+  WarnIgnoredKeys(path, "recognition.", r, set);
   std::string why;
   if (!r.IsValid(&why)) {
     *error = path + ": recognition: " + why;
@@ -400,9 +348,9 @@ bool ForEachListEntry(const std::string& path, const std::string& list_key, cons
 // The `recognition` and `fovea` sections of `node` (named `name` in errors) applied to `config`.
 bool ApplyRecognitionAndFovea(const YAML::Node& node, const std::string& name,
                               RecognitionConfig* config, const std::string& path,
-                              std::string* error) {
-  const ConfigKeys recognition = RecognitionKeys(&config->recognition);
-  const ConfigKeys fovea = FoveaKeys(&config->fovea);
+                              std::string* error, std::vector<std::string>* set = nullptr) {
+  const ConfigKeys recognition = KeysOf(&config->recognition);
+  const ConfigKeys fovea = KeysOf(&config->fovea);
   const std::map<std::string, const std::map<std::string, Setter>*> sections = {
       {"recognition", &recognition.setters}, {"fovea", &fovea.setters}};
   for (const auto& kv : node) {
@@ -412,7 +360,8 @@ bool ApplyRecognitionAndFovea(const YAML::Node& node, const std::string& name,
       *error = path + ": key '" + name + "." + key + "': unknown (expected recognition, fovea)";
       return false;
     }
-    if (!ApplySection(kv.second, name + "." + key, *section->second, path, error)) return false;
+    if (!ApplySection(kv.second, name + "." + key, *section->second, path, error, set))
+      return false;
   }
   return true;
 }
@@ -436,25 +385,27 @@ bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& ba
         EvalConfiguration c;
         c.config = defaults;
         c.name = std::to_string(i);
-        const std::map<std::string, Setter> top = {{"name", Scalar(&c.name)},
-                                                   {"pipeline", Scalar(&c.pipeline)}};
+        ConfigKeys top;
+        top.Add("name", &c.name);
+        std::vector<std::string> pipelines;
+        for (const auto& [label, value] : EvalConfiguration::kPipelineNames)
+          pipelines.push_back(label);
+        top.AddChoice("pipeline", pipelines, [&c](int k) {
+          c.pipeline = std::data(EvalConfiguration::kPipelineNames)[k].second;
+        });
         YAML::Node sections;
         for (const auto& kv : node) {
           const std::string key = kv.first.as<std::string>();
           if (key == "recognition" || key == "fovea") {
             sections[key] = kv.second;
-          } else if (!ApplyKey(top, key, entry + "." + key, kv.second, path, error)) {
+          } else if (!ApplyKey(top.setters, key, entry + "." + key, kv.second, path, error)) {
             return false;
           }
         }
-        if (!ApplyRecognitionAndFovea(sections, entry, &c.config, path, error)) return false;
+        std::vector<std::string> set;
+        if (!ApplyRecognitionAndFovea(sections, entry, &c.config, path, error, &set)) return false;
+        WarnIgnoredKeys(path, entry + ".recognition.", c.config.recognition, set);
         std::string why;
-        if (c.pipeline != "foveated" && c.pipeline != "plain" && c.pipeline != "stock" &&
-            c.pipeline != "opencv-ppf") {
-          *error = path + ": key '" + entry +
-                   ".pipeline': expected foveated | plain | stock | opencv-ppf";
-          return false;
-        }
         if (!c.config.recognition.IsValid(&why) || !c.config.fovea.IsValid(&why)) {
           *error = path + ": " + entry + " (" + c.name + "): " + why;
           return false;

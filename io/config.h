@@ -5,6 +5,7 @@
 #include "core/foveation.h"
 #include "core/recognition.h"
 #include "core/scenario.h"
+#include "core/schema.h"
 
 #include <functional>
 #include <map>
@@ -31,22 +32,79 @@ struct ConfigKeys {
   ConfigKeys& Add(const std::string& key, float* field);
   ConfigKeys& Add(const std::string& key, double* field);
   ConfigKeys& Add(const std::string& key, std::string* field);
+  ConfigKeys& Add(const std::string& key, Eigen::Vector2f* field);           // [x, z]
   ConfigKeys& Add(const std::string& key, Eigen::Vector3f* field);           // [x, y, z]
   ConfigKeys& Add(const std::string& key, Eigen::Quaternionf* field);        // [w, x, y, z]
   ConfigKeys& Add(const std::string& key, std::vector<std::string>* field);  // a list, or one
-  /// One of `names`; the field gets the index of the name.
-  ConfigKeys& AddChoice(const std::string& key, int* field, const std::vector<std::string>& names);
+  /// One of `names`; `set` gets the index of the name.
+  ConfigKeys& AddChoice(const std::string& key, const std::vector<std::string>& names,
+                        std::function<void(int)> set);
 };
 
-/// The keys of RecognitionOptions and FoveaOptions, as in configs/paper.yaml.
-ConfigKeys RecognitionKeys(RecognitionOptions* options);
-ConfigKeys FoveaKeys(FoveaOptions* options);
+/// Every key of a configuration file: the top level's and each section's.
+struct ConfigSchema {
+  ConfigKeys top;
+  std::map<std::string, ConfigKeys> sections;
+};
 
-/// Applies the file strictly: top-level keys from `top`, mappings from `sections`. False with
-/// `error` = "FILE: key 'a.b': reason" on an unknown key or a wrong type, and
-/// "FILE: line N: reason" when it is not YAML. An empty file changes nothing.
-bool ApplyConfigFile(const std::string& path, const ConfigKeys& top,
-                     const std::map<std::string, ConfigKeys>& sections, std::string* error);
+/// Builds a ConfigSchema from an options struct's Serialize (core/schema.h): Visit binds a
+/// key, Choice an enum key by its names, Section a mapping (one level deep).
+class SchemaArchive {
+ public:
+  explicit SchemaArchive(ConfigSchema* schema) : schema_(schema), keys_(&schema->top) {}
+
+  template <typename T>
+  void Visit(const char* name, T* field) {
+    keys_->Add(name, field);
+  }
+  template <typename Enum>
+  void Choice(const char* name, Enum* field, ChoiceNames<Enum> names) {
+    std::vector<std::string> labels;
+    std::vector<Enum> values;
+    for (const auto& [label, value] : names) labels.push_back(label), values.push_back(value);
+    keys_->AddChoice(name, labels, [field, values](int i) { *field = values[i]; });
+  }
+  template <typename Options>
+  void Section(const char* name, Options* options) {
+    SchemaArchive section(schema_);
+    section.keys_ = &schema_->sections[name];
+    options->Serialize(&section);
+  }
+
+ private:
+  ConfigSchema* schema_;
+  ConfigKeys* keys_;  // where Visit and Choice add
+};
+
+/// The keys of one options struct, for a section of its own.
+template <typename Options>
+ConfigKeys KeysOf(Options* options) {
+  ConfigSchema schema;
+  SchemaArchive archive(&schema);
+  options->Serialize(&archive);
+  return schema.top;
+}
+/// The whole schema of a struct whose Serialize has sections.
+template <typename Options>
+ConfigSchema SchemaOf(Options* options) {
+  ConfigSchema schema;
+  SchemaArchive archive(&schema);
+  options->Serialize(&archive);
+  return schema;
+}
+
+/// Applies the file strictly: top-level keys from schema.top, mappings from schema.sections.
+/// False with `error` = "FILE: key 'a.b': reason" on an unknown key or a wrong type (a renamed
+/// key names its new name), and "FILE: line N: reason" when it is not YAML. An empty file
+/// changes nothing. `set`, when given, gets the keys the file set ("section.key").
+bool ApplyConfigFile(const std::string& path, const ConfigSchema& schema, std::string* error,
+                     std::vector<std::string>* set = nullptr);
+
+/// Warns (one log line each) about the keys of `set` that `recognition` ignores in its mode
+/// (the hand radii while radii_from_model is on), `prefix` being how `set` names its section
+/// ("recognition." or "configurations[2].recognition.").
+void WarnIgnoredKeys(const std::string& path, const std::string& prefix,
+                     const RecognitionOptions& recognition, const std::vector<std::string>& set);
 
 /// The recognition part of a configuration file:
 ///   recognition: { <RecognitionOptions fields> }
@@ -64,9 +122,17 @@ bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, s
 /// One configuration of an evaluation: how to search (foveated with our stages, plain with our
 /// stages, or plain with PCL's stock stages: the paper's gold standard) and the options.
 struct EvalConfiguration {
+  enum class Pipeline { kFoveated, kPlain, kStock, kOpencvPpf };
   std::string name;
-  std::string pipeline = "foveated";  // foveated | plain | stock (PCL) | opencv-ppf (OpenCV)
+  Pipeline pipeline = Pipeline::kFoveated;
   RecognitionConfig config;
+
+  /// How the configuration file names a pipeline.
+  static constexpr ChoiceNames<Pipeline> kPipelineNames = {{"foveated", Pipeline::kFoveated},
+                                                           {"plain", Pipeline::kPlain},
+                                                           {"stock", Pipeline::kStock},
+                                                           {"opencv-ppf", Pipeline::kOpencvPpf}};
+  const char* PipelineName() const { return ChoiceName(pipeline, kPipelineNames); }
 };
 
 /// An evaluation's configurations file:
@@ -75,7 +141,7 @@ struct EvalConfiguration {
 ///     - {name: "1", pipeline: foveated, recognition: {...}, fovea: {...}}
 /// Each entry starts from `base` with the file's defaults applied, then applies its own
 /// sections; strict as LoadRecognitionConfig, errors name the entry
-/// ("configurations[3].fovea.levels_m").
+/// ("configurations[3].fovea.finest_level").
 bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& base,
                             std::vector<EvalConfiguration>* out, std::string* error);
 

@@ -23,7 +23,7 @@ Scenario RandomScenario(std::mt19937* rng) {
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   Scenario s;
   FoveaOptions& o = s.options;
-  o.levels_m = 1 + static_cast<int>(unit(*rng) * 5);
+  o.finest_level = 1 + static_cast<int>(unit(*rng) * 5);
   o.outer_box_from_scene = false;
   o.outer_size_m =
       Eigen::Vector3f(0.5f + 3 * unit(*rng), 0.5f + 3 * unit(*rng), 0.5f + 3 * unit(*rng));
@@ -31,8 +31,8 @@ Scenario RandomScenario(std::mt19937* rng) {
   for (int i = 0; i < 3; ++i) o.inner_size_m[i] = o.outer_size_m[i] * (0.05f + 0.9f * unit(*rng));
   o.growth_m =
       unit(*rng) < 0.3f ? Eigen::Vector3f::Zero() : Eigen::Vector3f::Constant(0.3f * unit(*rng));
-  o.density_0_m = 0.0f;  // keep every point: the partition is then exact
-  o.density_m_m = 0.0f;
+  o.outer_density_m = 0.0f;  // keep every point: the partition is then exact
+  o.inner_density_m = 0.0f;
   for (int i = 0; i < 3; ++i)
     s.fovea[i] = o.outer_min_corner_m[i] + o.outer_size_m[i] * (-0.2f + 1.4f * unit(*rng));
   for (int i = 0; i < 2000; ++i) {
@@ -52,7 +52,7 @@ TEST(FoveationEquations, DisplacementAndSizeAtFirstAndLastLevel) {
     const FoveaOptions& o = s.options;
     const FoveaGeometry g = ComputeFoveaGeometry(o, s.bounds, s.fovea);
     const Eigen::Vector3f F = g.fovea_in_box_m - 0.5f * o.outer_size_m;
-    const int m = o.levels_m;
+    const int m = o.finest_level;
     EXPECT_TRUE(LevelDisplacement(0, m, o.outer_size_m, o.inner_size_m, F).isZero(1e-6f));
     EXPECT_TRUE((LevelDisplacement(m, m, o.outer_size_m, o.inner_size_m, F) + 0.5f * o.inner_size_m)
                     .isApprox(g.fovea_in_box_m, 1e-4f));
@@ -66,7 +66,7 @@ TEST(FoveationGeometry, LevelsAreNestedAndClampedToTheOuterBox) {
   for (int t = 0; t < kTrials; ++t) {
     const Scenario s = RandomScenario(&rng);
     const FoveaGeometry g = ComputeFoveaGeometry(s.options, s.bounds, s.fovea);
-    ASSERT_EQ(static_cast<int>(g.levels.size()), s.options.levels_m + 1);
+    ASSERT_EQ(static_cast<int>(g.levels.size()), s.options.finest_level + 1);
     EXPECT_TRUE(g.levels[0].min.isZero() && g.levels[0].max.isApprox(g.outer_size_m));
     for (std::size_t k = 0; k < g.levels.size(); ++k) {
       EXPECT_TRUE(g.OuterBox().ContainsBox(g.levels[k])) << "trial " << t << " level " << k;
@@ -101,8 +101,8 @@ TEST(FoveationCloud, DownsampledLevelsKeepOnlyOriginalPointsOfTheirRegion) {
   std::mt19937 rng(17);
   for (int t = 0; t < 50; ++t) {
     Scenario s = RandomScenario(&rng);
-    s.options.density_0_m = 0.2f;
-    s.options.density_m_m = 0.05f;
+    s.options.outer_density_m = 0.2f;
+    s.options.inner_density_m = 0.05f;
     const FoveaGeometry g = ComputeFoveaGeometry(s.options, s.bounds, s.fovea);
     const FoveatedCloud fc = Foveate(s.cloud, s.options, g);
     for (std::size_t j = 0; j < fc.source_index.size(); ++j) {
@@ -136,15 +136,16 @@ TEST(FoveationGrowth, VeryLargeGrowthMeansNoFoveation) {
     s.options.growth_m.setConstant(1e6f);
     const FoveaGeometry g = ComputeFoveaGeometry(s.options, s.bounds, s.fovea);
     const FoveatedCloud fc = Foveate(s.cloud, s.options, g);
-    for (std::size_t j = 0; j < fc.level.size(); ++j) EXPECT_EQ(fc.level[j], s.options.levels_m);
-    for (int k = 0; k < s.options.levels_m; ++k) EXPECT_EQ(fc.LevelPointCount(k), 0u);
+    for (std::size_t j = 0; j < fc.level.size(); ++j)
+      EXPECT_EQ(fc.level[j], s.options.finest_level);
+    for (int k = 0; k < s.options.finest_level; ++k) EXPECT_EQ(fc.LevelPointCount(k), 0u);
   }
 }
 
 TEST(FoveationGrowth, TwoLevelsWork) {
   std::mt19937 rng(29);
   Scenario s = RandomScenario(&rng);
-  s.options.levels_m = 1;
+  s.options.finest_level = 1;
   const FoveaGeometry g = ComputeFoveaGeometry(s.options, s.bounds, s.fovea);
   const FoveatedCloud fc = Foveate(s.cloud, s.options, g);
   EXPECT_EQ(fc.NumLevels(), 2);
@@ -167,7 +168,7 @@ TEST(FoveationGeometry, OrientedOuterBoxRotatesTheLevels) {
   o.outer_min_corner_m = Eigen::Vector3f(0, 0, 0);
   o.outer_orientation = Eigen::AngleAxisf(M_PI / 2, Eigen::Vector3f::UnitZ());  // box x = camera y
   o.inner_size_m = Eigen::Vector3f(0.2f, 0.2f, 0.2f);
-  o.levels_m = 1;
+  o.finest_level = 1;
   const Eigen::Vector3f fovea(-0.5f, 0.5f, 1.0f);  // box coordinates (0.5, 0.5, 1.0)
   const FoveaGeometry g = ComputeFoveaGeometry(o, Box{}, fovea);
   EXPECT_TRUE(g.fovea_in_box_m.isApprox(Eigen::Vector3f(0.5f, 0.5f, 1.0f), 1e-5f));
@@ -182,7 +183,7 @@ struct InvalidCase {
 
 TEST(FoveaOptions, InvalidParametersAreRejectedNamingTheField) {
   const InvalidCase cases[] = {
-      {"levels_m", [](FoveaOptions* o) { o->levels_m = 0; }},
+      {"finest_level", [](FoveaOptions* o) { o->finest_level = 0; }},
       {"inner_size_m",
        [](FoveaOptions* o) {
          o->outer_box_from_scene = false;
@@ -194,10 +195,10 @@ TEST(FoveaOptions, InvalidParametersAreRejectedNamingTheField) {
          o->outer_size_m.x() = 0;
        }},
       {"inner_size_m", [](FoveaOptions* o) { o->inner_size_m.y() = -1; }},
-      {"keypoint_radius_0_m", [](FoveaOptions* o) { o->keypoint_radius_0_m = 0; }},
-      {"keypoint_radius_m_m", [](FoveaOptions* o) { o->keypoint_radius_m_m = NAN; }},
+      {"outer_keypoint_radius_m", [](FoveaOptions* o) { o->outer_keypoint_radius_m = 0; }},
+      {"inner_keypoint_radius_m", [](FoveaOptions* o) { o->inner_keypoint_radius_m = NAN; }},
       {"growth_m", [](FoveaOptions* o) { o->growth_m.z() = NAN; }},
-      {"density_0_m", [](FoveaOptions* o) { o->density_0_m = -0.1f; }},
+      {"outer_density_m", [](FoveaOptions* o) { o->outer_density_m = -0.1f; }},
       {"outer_min_corner_m",
        [](FoveaOptions* o) {
          o->outer_box_from_scene = false;

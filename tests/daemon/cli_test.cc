@@ -262,14 +262,14 @@ TEST(Cli, EvalScoresTheRealMilkSceneAgainstItsPoseFile) {
 
 TEST(Cli, EvalRejectsABadConfigurationsFileNamingTheEntry) {
   const std::string configs =
-      WriteFile("bad_eval.yaml", "configurations:\n  - name: a\n    fovea: {levels_m: zero}\n");
+      WriteFile("bad_eval.yaml", "configurations:\n  - name: a\n    fovea: {finest_level: zero}\n");
   const CliRun r = Saccade(
       "eval --dataset synthetic:paper-protocol --model synthetic:ball "
       "--configs " +
       configs);
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(Lines(r.out), 1) << r.out;
-  EXPECT_NE(r.out.find("configurations[0].fovea.levels_m"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("configurations[0].fovea.finest_level"), std::string::npos) << r.out;
   // The same for the defaults every entry starts from.
   const std::string defaults =
       WriteFile("bad_defaults.yaml",
@@ -378,7 +378,7 @@ TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
                                             "  - {name: fitted, pipeline: foveated, "
                                             "recognition: {radii_from_model: true, "
                                             "max_support_half_window_px: 12}, "
-                                            "fovea: {keypoint_radius_m_m: 0.014}}\n");
+                                            "fovea: {inner_keypoint_radius_m: 0.014}}\n");
   const std::string out = ::testing::TempDir() + "cases_out";
   const CliRun r = Saccade("eval --cases " + cases + " --data " + saccade::testing::DataPath("") +
                            " --configs " + configs + " --out " + out + " --no-plots");

@@ -522,7 +522,7 @@ TEST(Saccaded, BadConfigFilesStopItWithFileKeyAndReason) {
       {"model: synthetic:target\nattention:\n  growth_step: -1\n", "growth_step must be > 0"},
       {"model: synthetic:target\nattention:\n  fallback: pray\n", "expected full_scan | saccade"},
       {"model: synthetic:target\npipeline:\n  frames_in_flight: 0\n",
-       "key 'pipeline.frames_in_flight': must be in [1, 16]"},
+       "pipeline: frames_in_flight must be in [1, 16]"},
       {"model: [\n", "line"},
       {"source: synthetic:static\n", "no model"},
   };

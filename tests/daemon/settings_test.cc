@@ -14,23 +14,10 @@ namespace {
 
 const std::string kConfigs = std::string(SACCADE_SOURCE_DIR) + "/configs/";
 
-// Every recognition and fovea value that differs between Saccade's defaults and the paper's.
+// Every recognition and fovea option (the structs compare every field their schema names).
 void ExpectSameRecognitionAndFovea(const DaemonSettings& a, const DaemonSettings& b) {
-  const RecognitionOptions &r = a.recognition, &q = b.recognition;
-  EXPECT_EQ(r.radii_from_model, q.radii_from_model);
-  EXPECT_EQ(r.max_support_half_window_px, q.max_support_half_window_px);
-  EXPECT_EQ(r.match_branching, q.match_branching);
-  EXPECT_EQ(r.match_checks, q.match_checks);
-  EXPECT_FLOAT_EQ(r.scene_keypoint_radius_m, q.scene_keypoint_radius_m);
-  EXPECT_FLOAT_EQ(r.scene_shot_radius_m, q.scene_shot_radius_m);
-  EXPECT_FLOAT_EQ(r.hough_bin_m, q.hough_bin_m);
-  EXPECT_EQ(r.hough_threshold, q.hough_threshold);
-  EXPECT_EQ(r.verify.enabled, q.verify.enabled);
-  EXPECT_EQ(a.fovea.levels_m, b.fovea.levels_m);
-  EXPECT_TRUE(a.fovea.inner_size_m.isApprox(b.fovea.inner_size_m));
-  EXPECT_FLOAT_EQ(a.fovea.keypoint_radius_0_m, b.fovea.keypoint_radius_0_m);
-  EXPECT_FLOAT_EQ(a.fovea.keypoint_radius_m_m, b.fovea.keypoint_radius_m_m);
-  EXPECT_FLOAT_EQ(a.fovea.density_0_m, b.fovea.density_0_m);
+  EXPECT_TRUE(a.recognition == b.recognition);
+  EXPECT_TRUE(a.fovea == b.fovea);
 }
 
 TEST(DaemonSettings, ShippedFileHoldsSaccadesDefaults) {
@@ -41,10 +28,10 @@ TEST(DaemonSettings, ShippedFileHoldsSaccadesDefaults) {
   const DaemonSettings saccade;
   ExpectSameRecognitionAndFovea(s, saccade);
   EXPECT_TRUE(s.recognition.radii_from_model);  // the defaults fit the radii to the model
-  EXPECT_EQ(s.fovea.levels_m, 2);
+  EXPECT_EQ(s.fovea.finest_level, 2);
   // The service part is the built-in defaults, written out.
   EXPECT_EQ(s.bus.url, saccade.bus.url);
-  EXPECT_EQ(s.frames_in_flight, saccade.frames_in_flight);
+  EXPECT_TRUE(s.pipeline == saccade.pipeline);
   EXPECT_EQ(s.attention.growth_max_m, saccade.attention.growth_max_m);
   EXPECT_EQ(s.attention.max_targets, 1);
   EXPECT_FALSE(s.attention.predict);  // off: the paper's behaviour
@@ -73,19 +60,19 @@ TEST(DaemonSettings, PaperFileHoldsTables1And2) {
   EXPECT_FLOAT_EQ(r.max_descriptor_sqr_distance, 0.25f);
   EXPECT_FLOAT_EQ(r.hough_bin_m, 0.01f);
   EXPECT_EQ(r.hough_threshold, 5);
-  EXPECT_EQ(s.fovea.levels_m, 3);  // Table 2
+  EXPECT_EQ(s.fovea.finest_level, 3);  // Table 2
   EXPECT_TRUE(s.fovea.inner_size_m.isApprox(Eigen::Vector3f::Constant(0.5f)));
   EXPECT_TRUE(s.fovea.outer_size_m.isApprox(Eigen::Vector3f::Constant(3.0f)));
   EXPECT_TRUE(s.fovea.outer_min_corner_m.isApprox(Eigen::Vector3f(-2.9f, -1.9f, -1.3f)));
-  EXPECT_FLOAT_EQ(s.fovea.keypoint_radius_0_m, 0.08f);
-  EXPECT_FLOAT_EQ(s.fovea.keypoint_radius_m_m, 0.02f);
+  EXPECT_FLOAT_EQ(s.fovea.outer_keypoint_radius_m, 0.08f);
+  EXPECT_FLOAT_EQ(s.fovea.inner_keypoint_radius_m, 0.02f);
 }
 
 TEST(EvalConfigurations, EntriesStartFromTheFilesDefaults) {
   const std::string path = testing::TempDir() + "defaults.yaml";
   std::ofstream(path) << "defaults:\n"
                          "  recognition: {radii_from_model: false, hough_bin_m: 0.03}\n"
-                         "  fovea: {levels_m: 3}\n"
+                         "  fovea: {finest_level: 3}\n"
                          "configurations:\n"
                          "  - {name: a, pipeline: plain}\n"
                          "  - {name: b, pipeline: foveated, recognition: {hough_bin_m: 0.05}}\n";
@@ -95,10 +82,10 @@ TEST(EvalConfigurations, EntriesStartFromTheFilesDefaults) {
   ASSERT_EQ(configs.size(), 2u);
   EXPECT_FALSE(configs[0].config.recognition.radii_from_model);
   EXPECT_FLOAT_EQ(configs[0].config.recognition.hough_bin_m, 0.03f);
-  EXPECT_EQ(configs[0].config.fovea.levels_m, 3);
+  EXPECT_EQ(configs[0].config.fovea.finest_level, 3);
   EXPECT_FALSE(configs[1].config.recognition.radii_from_model);
   EXPECT_FLOAT_EQ(configs[1].config.recognition.hough_bin_m, 0.05f);  // its own key wins
-  EXPECT_EQ(configs[1].config.fovea.levels_m, 3);
+  EXPECT_EQ(configs[1].config.fovea.finest_level, 3);
   // Nothing but defaults and configurations at the top.
   std::ofstream(path) << "defaults: {}\nconfigurations: []\nextra: 1\n";
   EXPECT_FALSE(LoadEvalConfigurations(path, RecognitionConfig{}, &configs, &error));
@@ -117,7 +104,7 @@ TEST(EvalConfigurations, ShippedSaccadeRowsAreTheBuiltInDefaults) {
     const auto row = std::find_if(configs.begin(), configs.end(),
                                   [](const EvalConfiguration& c) { return c.name == "saccade"; });
     ASSERT_NE(row, configs.end());
-    EXPECT_EQ(row->pipeline, "foveated");
+    EXPECT_EQ(row->pipeline, EvalConfiguration::Pipeline::kFoveated);
     DaemonSettings measured;
     measured.recognition = row->config.recognition;
     measured.fovea = row->config.fovea;
@@ -129,11 +116,21 @@ TEST(DaemonSettings, ShippedFileDocumentsEveryRecognitionAndFoveaKey) {
   std::ifstream in(kConfigs + "saccaded.yaml");
   ASSERT_TRUE(in.good());
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  RecognitionOptions r;
-  FoveaOptions f;
-  for (const ConfigKeys& keys : {RecognitionKeys(&r), FoveaKeys(&f)})
-    for (const auto& [key, setter] : keys.setters)
-      EXPECT_NE(text.find("\n  " + key + ":"), std::string::npos) << key << " is not in the file";
+  // Every key of every section, from the settings' own schema (a hand radius may be there
+  // commented out: it is ignored under radii_from_model).
+  DaemonSettings s;
+  const ConfigSchema schema = SchemaOf(&s);
+  for (const auto& [key, setter] : schema.top.setters)
+    EXPECT_NE(text.find("\n" + key + ":"), std::string::npos) << key << " is not in the file";
+  for (const auto& [section, keys] : schema.sections) {
+    EXPECT_NE(text.find("\n" + section + ":"), std::string::npos) << section;
+    for (const auto& [key, setter] : keys.setters) {
+      if (section == "fovea" && key == "growth_m") continue;  // the attention loop's to set
+      const bool set = text.find("\n  " + key + ":") != std::string::npos;
+      const bool commented = text.find("\n  # " + key + ":") != std::string::npos;
+      EXPECT_TRUE(set || commented) << section << "." << key << " is not in the file";
+    }
+  }
 }
 
 TEST(DaemonSettings, DemoFileLoadsAndNamesAModel) {
@@ -141,7 +138,7 @@ TEST(DaemonSettings, DemoFileLoadsAndNamesAModel) {
   std::string error;
   ASSERT_TRUE(LoadDaemonSettings(kConfigs + "demo.yaml", &s, &error)) << error;
   ASSERT_EQ(s.models.size(), 1u);
-  EXPECT_EQ(s.summary, "line");
+  EXPECT_EQ(s.service.summary, ServiceOptions::Summary::kLine);
   EXPECT_TRUE(s.IsValid(&error)) << error;
 }
 
@@ -151,12 +148,47 @@ TEST(DaemonSettings, RobotFrameRotationMustBeAUnitQuaternion) {
   DaemonSettings s = PaperDefaults();
   std::string error;
   EXPECT_FALSE(LoadDaemonSettings(path, &s, &error));
-  EXPECT_NE(error.find("robot_frame.rotation"), std::string::npos) << error;
+  EXPECT_NE(error.find("robot_frame: rotation must be a unit quaternion"), std::string::npos)
+      << error;
   std::ofstream(path) << "robot_frame:\n  enabled: true\n  translation_m: [0.1, 0, 0.5]\n"
                          "  rotation: [0.7071068, 0, 0, 0.7071068]\n";
   ASSERT_TRUE(LoadDaemonSettings(path, &s, &error)) << error;
-  const Eigen::Vector3f p = s.bus.robot_from_camera * Eigen::Vector3f(1, 0, 0);
+  const Eigen::Vector3f p = s.bus.robot.RobotFromCamera() * Eigen::Vector3f(1, 0, 0);
   EXPECT_TRUE(p.isApprox(Eigen::Vector3f(0.1f, 1.0f, 0.5f), 1e-5f)) << p.transpose();
+}
+
+TEST(DaemonSettings, GrowthIsAttentionsAndRenamedKeysSayTheirNewName) {
+  const std::string path = testing::TempDir() + "growth.yaml";
+  std::ofstream(path) << "fovea:\n  growth_m: [0.1, 0.1, 0.1]\n";
+  DaemonSettings s;
+  std::string error;
+  EXPECT_FALSE(LoadDaemonSettings(path, &s, &error));
+  EXPECT_NE(error.find("key 'fovea.growth_m': set by the attention loop"), std::string::npos)
+      << error;
+  std::ofstream(path) << "fovea:\n  keypoint_radius_m_m: 0.02\n";
+  EXPECT_FALSE(LoadDaemonSettings(path, &s, &error));
+  EXPECT_NE(error.find("unknown key (it is now 'inner_keypoint_radius_m')"), std::string::npos)
+      << error;
+}
+
+TEST(DaemonSettings, AHandRadiusUnderFittedRadiiIsWarnedAboutAndLoads) {
+  const std::string path = testing::TempDir() + "radii.yaml";
+  std::ofstream(path) << "recognition:\n  radii_from_model: true\n  model_shot_radius_m: 0.03\n";
+  DaemonSettings s;
+  std::string error;
+  testing::internal::CaptureStderr();
+  EXPECT_TRUE(LoadDaemonSettings(path, &s, &error)) << error;
+  std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("key 'recognition.model_shot_radius_m' is ignored while radii_from_model"),
+            std::string::npos)
+      << err;
+  // With hand radii it is used, and nothing is said.
+  std::ofstream(path) << "recognition:\n  radii_from_model: false\n  model_shot_radius_m: 0.03\n";
+  testing::internal::CaptureStderr();
+  EXPECT_TRUE(LoadDaemonSettings(path, &s, &error)) << error;
+  err = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(err.find("ignored"), std::string::npos) << err;
+  EXPECT_FLOAT_EQ(s.recognition.model_shot_radius_m, 0.03f);
 }
 
 }  // namespace

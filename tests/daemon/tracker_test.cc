@@ -19,7 +19,7 @@ DaemonSettings DemoSettings() {
   DaemonSettings s;
   std::string error;
   EXPECT_TRUE(LoadDaemonSettings(kSourceDir + "/configs/demo.yaml", &s, &error)) << error;
-  s.summary = "off";
+  s.service.summary = ServiceOptions::Summary::kOff;
   // rate=0: rendered as read, so the test gets every frame (a live source drops late ones).
   s.source = "synthetic:static?frames=6&seed=3&rate=0";
   return s;

@@ -40,10 +40,10 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   BusOptions options;
   options.url = TestUrl();
   options.commands = false;
-  options.to_robot_frame = true;
-  options.robot_frame = "base_link";
-  options.robot_from_camera =
-      Eigen::Translation3f(0.1f, 0.0f, 0.5f) *
+  options.robot.enabled = true;
+  options.robot.name = "base_link";
+  options.robot.translation_m = Eigen::Vector3f(0.1f, 0.0f, 0.5f);
+  options.robot.rotation =
       Eigen::AngleAxisf(static_cast<float>(M_PI) / 2, Eigen::Vector3f::UnitZ());
   std::string error;
   auto bus = OpenLcmBus(options, &error);
@@ -119,8 +119,8 @@ TEST(LcmBus, CommandsArriveInTheCameraFrameAndBadOnesAreCounted) {
   BusOptions options;
   options.url = TestUrl();
   options.channel_prefix = "ROBOT1";
-  options.to_robot_frame = true;
-  options.robot_from_camera = Eigen::Isometry3f(Eigen::Translation3f(0, 0, 0.5f));
+  options.robot.enabled = true;
+  options.robot.translation_m = Eigen::Vector3f(0, 0, 0.5f);
   std::mutex mutex;
   std::vector<Command> commands;
   std::string error;
