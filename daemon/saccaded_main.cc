@@ -1,6 +1,6 @@
 // saccaded: the tracking service. Frames in, detections and fixations out over LCM.
 #include "daemon/args.h"
-#include "daemon/commands.h"
+#include "daemon/cli/commands.h"
 #include "daemon/notify.h"
 #include "daemon/settings.h"
 #include "daemon/signals.h"

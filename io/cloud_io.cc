@@ -1,7 +1,7 @@
 #include "io/cloud_io.h"
 
 #include "core/fail.h"
-#include "core/scenario.h"
+#include "core/sim/scenario.h"
 
 #include <cstdio>
 

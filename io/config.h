@@ -4,7 +4,7 @@
 
 #include "core/foveation.h"
 #include "core/recognition.h"
-#include "core/scenario.h"
+#include "core/sim/scenario.h"
 #include "core/schema.h"
 
 #include <functional>

@@ -1,7 +1,7 @@
 // truth.csv: the ground truth of a recorded sequence, one row per frame file, in file order.
 #pragma once
 
-#include "core/scenario.h"
+#include "core/sim/scenario.h"
 
 #include <cstdint>
 #include <string>

@@ -1,6 +1,6 @@
 // The paper's scoring rule and its sphere-fit ground truth.
-#include "core/evaluation.h"
-#include "core/scenario.h"
+#include "core/eval/evaluation.h"
+#include "core/sim/scenario.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Recognition on the real Kinect milk scene (../shared/data), plain and foveated, against its
 // ground truth; plus the guarantees of the grouping stage on hand-made inputs.
 #include "core/recognition.h"
-#include "core/reference_pipeline.h"
+#include "core/eval/reference_pipeline.h"
 #include "io/cloud_io.h"
 #include "support/test_data.h"
 

@@ -1,6 +1,6 @@
 // Saliency for the saccade fallback: objects on a table stand out, the table and walls do not.
 #include "core/saliency.h"
-#include "core/scenario.h"
+#include "core/sim/scenario.h"
 
 #include <gtest/gtest.h>
 

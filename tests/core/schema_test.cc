@@ -5,7 +5,7 @@
 #include "core/foveation.h"
 #include "core/recognition.h"
 #include "core/saliency.h"
-#include "core/scenario.h"
+#include "core/sim/scenario.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The synthetic Kinect: deterministic frames with the Kinect's geometry and noise, and a
 // target that is found from a model cut out of another capture.
-#include "core/synthetic.h"
+#include "core/sim/synthetic.h"
 #include "core/recognition.h"
-#include "core/scenario.h"
+#include "core/sim/scenario.h"
 
 #include <gtest/gtest.h>
 

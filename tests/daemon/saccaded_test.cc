@@ -1,6 +1,6 @@
 // saccaded end to end: the real binary, real LCM over UDP multicast on this host (ttl=0), and
 // Debian's lcm-logger as the subscriber whose log the assertions read.
-#include "core/scenario.h"
+#include "core/sim/scenario.h"
 #include "io/config.h"
 
 #include <fcntl.h>

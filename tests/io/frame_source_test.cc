@@ -1,6 +1,6 @@
 // Frame sources: spec parsing, the synthetic scenarios and their ground truth, PCD and depth
 // sequences written by FrameWriter and read back, the live mailbox, and bad input.
-#include "core/scenario.h"
+#include "core/sim/scenario.h"
 #include "io/frame_source.h"
 
 #include "io/frame_writer.h"

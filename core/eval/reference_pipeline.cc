@@ -1,4 +1,4 @@
-#include "core/reference_pipeline.h"
+#include "core/eval/reference_pipeline.h"
 
 #include <pcl/features/board.h>
 #include <pcl/features/normal_3d.h>

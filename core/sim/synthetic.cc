@@ -1,4 +1,4 @@
-#include "core/synthetic.h"
+#include "core/sim/synthetic.h"
 
 #include <cmath>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "core/opencv_ppf.h"
+#include "core/eval/opencv_ppf.h"
 
 #include "core/fail.h"
 

@@ -1,4 +1,4 @@
-#include "core/evaluation.h"
+#include "core/eval/evaluation.h"
 
 #include "core/fail.h"
 

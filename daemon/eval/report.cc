@@ -1,4 +1,4 @@
-#include "daemon/eval_report.h"
+#include "daemon/eval/report.h"
 
 #include <algorithm>
 #include <fstream>

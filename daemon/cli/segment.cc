@@ -1,7 +1,7 @@
 // saccade segment: cut an object out of a capture and write it as a model (paper §5.8.1).
 #include "core/segmentation.h"
 #include "daemon/args.h"
-#include "daemon/commands.h"
+#include "daemon/cli/commands.h"
 #include "io/cloud_io.h"
 #include "io/json.h"
 

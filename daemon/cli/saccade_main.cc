@@ -1,5 +1,5 @@
 // saccade: the user's command line (recognize, bench, demo).
-#include "daemon/commands.h"
+#include "daemon/cli/commands.h"
 
 #include <iostream>
 #include <string>

@@ -1,7 +1,7 @@
 // `saccade log-fixations` (live, from LCM) and `saccade fixations LOG` (from an lcm-logger
 // file): the attention log as CSV or JSON lines.
 #include "daemon/args.h"
-#include "daemon/commands.h"
+#include "daemon/cli/commands.h"
 #include "daemon/signals.h"
 #include "io/bus.h"
 #include "io/fixation_log.h"

@@ -1,8 +1,8 @@
-#include "daemon/commands.h"
+#include "daemon/cli/commands.h"
 
 #include "core/recognition.h"
-#include "core/reference_pipeline.h"
-#include "core/scenario.h"
+#include "core/eval/reference_pipeline.h"
+#include "core/sim/scenario.h"
 #include "daemon/args.h"
 #include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"

@@ -1,7 +1,7 @@
 // saccade record: capture from any source into a folder (PCD or depth images, with ground
 // truth) or an .oni recording.
 #include "daemon/args.h"
-#include "daemon/commands.h"
+#include "daemon/cli/commands.h"
 #include "daemon/signals.h"
 #include "io/frame_source.h"
 #include "io/frame_writer.h"

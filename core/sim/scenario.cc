@@ -1,4 +1,4 @@
-#include "core/scenario.h"
+#include "core/sim/scenario.h"
 
 #include "core/fail.h"
 

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "core/frame.h"
-#include "core/synthetic.h"
+#include "core/sim/synthetic.h"
 
 #include <optional>
 #include <string>

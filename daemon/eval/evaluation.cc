@@ -1,0 +1,331 @@
+#include "daemon/eval/evaluation.h"
+
+#include "attention/attention.h"
+#include "core/eval/opencv_ppf.h"
+#include "core/eval/reference_pipeline.h"
+#include "core/fail.h"
+#include "core/features.h"
+#include "core/segmentation.h"
+#include "io/cloud_io.h"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace saccade::eval {
+
+namespace fs = std::filesystem;
+
+// DIR (a recorded folder: PCD files or depth images) or any source spec.
+std::string DatasetSpec(const std::string& dataset) {
+  if (dataset.find(':') != std::string::npos) return dataset;
+  for (const auto& entry : fs::directory_iterator(dataset))
+    if (entry.path().extension() == ".pcd") return "pcd:" + dataset;
+  return "depth:" + dataset;
+}
+
+double MeanMs(const std::vector<Trial>& trials) {
+  double sum = 0;
+  for (const Trial& t : trials) sum += t.ms;
+  return trials.empty() ? 0 : sum / static_cast<double>(trials.size());
+}
+
+// The fovea offsets of the paper's Fig. 10: 0 to 35 cm along x, every 5 cm.
+std::vector<Eigen::Vector3f> SweepOffsets() {
+  std::vector<Eigen::Vector3f> out;
+  for (int cm = 0; cm <= 35; cm += 5) out.emplace_back(0.01f * cm, 0.0f, 0.0f);
+  return out;
+}
+
+// Protocol (b)'s fovea offset for case i: 15 cm in a random direction, seeded by the case's
+// place in the file (uniform on the sphere: a normalized Gaussian triple).
+Eigen::Vector3f OffObject(std::size_t i) {
+  std::mt19937 rng(1000 + static_cast<unsigned>(i));
+  std::normal_distribution<float> n(0, 1);
+  Eigen::Vector3f d(n(rng), n(rng), n(rng));
+  return 0.15f * d.normalized();
+}
+
+
+Runner::Runner(const std::vector<EvalModel>& models, ParallelFor parallel, int repeat)
+    : models_(models), parallel_(std::move(parallel)), repeat_(repeat) {}
+
+
+bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes, std::size_t placements,
+         const FoveaPlacement& fovea, std::vector<std::vector<Trial>>* trials,
+         std::vector<std::vector<Acquisition>>* acquisitions, std::string* error) const {
+  trials->assign(placements, {});
+  if (acquisitions) acquisitions->assign(placements, {});
+  const RecognitionOptions& o = c.config.recognition;
+  using Pipeline = EvalConfiguration::Pipeline;
+  const bool is_stock = c.pipeline == Pipeline::kStock,
+             is_ppf = c.pipeline == Pipeline::kOpencvPpf;
+  // ReferenceModel is move-constructible only: built in place.
+  std::vector<std::optional<ReferenceModel>> stock(models_.size());
+  std::vector<std::optional<ModelDescription>> described(models_.size());
+  // OpenCV's PPF models are large (a hash table of every model point pair): one at a time,
+  // trained when a scene first needs it.
+  std::optional<PpfPeerModel> ppf;
+  std::size_t ppf_model = models_.size();
+  const PpfPeerOptions ppf_options;
+  for (std::size_t m = 0; m < models_.size() && !is_ppf; ++m) {
+    if (is_stock) {
+      if (auto r = DescribeReferenceModel(models_[m].cloud, o, error))
+        stock[m].emplace(std::move(*r));
+    } else {
+      described[m] = DescribeModel(models_[m].cloud, o, error);
+    }
+    if (!stock[m] && !described[m]) return false;
+  }
+  for (std::size_t k = 0; k < placements; ++k) {
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+      const Scene& s = scenes[i];
+      SceneQuery q;
+      q.foveated = c.pipeline == Pipeline::kFoveated;
+      q.fovea_m = fovea(k, i);
+      q.fovea = c.config.fovea;
+      q.intrinsics = s.frame.intrinsics;
+      if (is_ppf && ppf_model != s.model) {
+        ppf.reset();
+        auto trained = TrainPpfPeer(models_[s.model].cloud, ppf_options, error);
+        if (!trained) return false;
+        ppf.emplace(std::move(*trained));
+        ppf_model = s.model;
+      }
+      std::vector<Trial> runs;
+      for (int run = 0; run < repeat_; ++run) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const RecognitionResult r =
+            is_stock ? RecognizeReference(*stock[s.model], *s.frame.cloud, o)
+            : is_ppf ? RecognizePpfPeer(*ppf, *s.frame.cloud, ppf_options)
+                     : Recognize(*described[s.model], *s.frame.cloud, q, o, parallel_);
+        Trial t;
+        t.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                   .count();
+        t.centres = Centres(r, s);
+        t.stats = r.stats;
+        if (run == 0) t.evidence = Evidence(r, s, described[s.model], o);
+        for (const Detection& d : r.instances) {
+          t.instances.push_back(d);
+          t.instances.back().correspondences.clear();
+        }
+        runs.push_back(std::move(t));
+      }
+      const CaseEvidence evidence = runs.front().evidence;
+      auto median = runs.begin() + runs.size() / 2;
+      std::nth_element(runs.begin(), median, runs.end(),
+                       [](const Trial& a, const Trial& b) { return a.ms < b.ms; });
+      if (acquisitions && described[s.model])
+        (*acquisitions)[k].push_back(Acquire(*described[s.model], s, q, o, median->centres));
+      median->evidence = evidence;
+      (*trials)[k].push_back(std::move(*median));
+    }
+  }
+  return true;
+}
+
+std::vector<Eigen::Vector3f> Runner::Centres(const RecognitionResult& r, const Scene& s) const {
+  std::vector<Eigen::Vector3f> out;
+  for (const Detection& d : r.instances)
+    out.push_back((d.model_to_scene * models_[s.model].centre.homogeneous()).head<3>());
+  return out;
+}
+
+CaseEvidence Runner::Evidence(const RecognitionResult& r, const Scene& s,
+                      const std::optional<ModelDescription>& model,
+                      const RecognitionOptions& given) const {
+  CaseEvidence e;
+  const EvalModel& m = models_[s.model];
+  const Cloud& scene = *s.frame.cloud;
+  if (r.correspondences.empty() && r.stats.correspondences > 0) {
+    e.correct_correspondences = -1;  // matched, but the pipeline does not say what
+  } else if (s.truth_pose) {
+    const float tolerance =
+        std::max(0.02f, model ? RadiiForModel(given, model->scale()).hough_bin_m : 0.0f);
+    for (const auto& [mi, si] : r.correspondences) {
+      const Eigen::Vector3f p =
+          (*s.truth_pose * m.cloud[mi].getVector3fMap().homogeneous()).head<3>();
+      e.correct_correspondences += (p - scene[si].getVector3fMap()).norm() <= tolerance;
+    }
+  }
+  for (std::size_t h = 0; h < r.hypotheses.size(); ++h) {
+    const Eigen::Vector3f centre =
+        (r.hypotheses[h].model_to_scene * m.centre.homogeneous()).head<3>();
+    if ((centre - s.truth_m).norm() > 0.08f) continue;
+    e.true_hypotheses.push_back(h < r.verdicts.size() ? r.verdicts[h] : Verdict::kKept);
+  }
+  e.found = ScoreScene(Centres(r, s), s.truth_m, 0.08f).true_positives > 0;
+  return e;
+}
+
+Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
+                    const RecognitionOptions& o,
+                    const std::vector<Eigen::Vector3f>& first) const {
+  constexpr int kMaxFrames = 30;
+  Acquisition a;
+  Attention attention(AttentionOptions{}, q.fovea_m);
+  const bool foveated = q.foveated;
+  for (int frame = 1; frame <= kMaxFrames; ++frame) {
+    const Fixation& f = attention.current();
+    const Eigen::Vector3f growth = Eigen::Vector3f::Constant(f.growth_m);
+    const bool as_trial = frame == 1 && q.fovea.growth_m == growth;  // fovea_m is q's too
+    q.fovea_m = f.fovea_m;
+    q.fovea.growth_m = growth;
+    q.foveated = foveated && f.mode != AttentionMode::kFullScan;  // past G_max: the whole frame
+    const std::vector<Eigen::Vector3f> centres =
+        as_trial ? first : Centres(Recognize(model, *s.frame.cloud, q, o, parallel_), s);
+    std::vector<Detection> sightings;
+    bool found = false;
+    for (const Eigen::Vector3f& centre : centres) {
+      sightings.emplace_back().centroid_m = centre;
+      sightings.back().model = 0;
+      if ((centre - s.truth_m).norm() <= 0.08f)
+        found = true;
+      else
+        ++a.false_instances;
+    }
+    if (found) {
+      a.frames = frame;
+      break;
+    }
+    attention.Update(frame, frame / 30.0, sightings);
+  }
+  return a;
+}
+
+
+Totals Score(const std::vector<Trial>& trials, const std::vector<Scene>& scenes, float threshold) {
+  Totals t;
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    const SceneScore s = ScoreScene(trials[i].centres, scenes[i].truth_m, threshold);
+    t.tp += s.true_positives;
+    t.fp += s.false_positives;
+    if (scenes[i].sphere_truth_m) {
+      const SceneScore f = ScoreScene(trials[i].centres, *scenes[i].sphere_truth_m, threshold);
+      t.tp_sphere += f.true_positives;
+      t.fp_sphere += f.false_positives;
+    }
+  }
+  return t;
+}
+
+// The scene category of each case (by name) from the cases.csv beside a cases file, when there
+// is one with `name` and `scene_category` columns (the mOSD benchmark's); empty otherwise.
+std::map<std::string, std::string> CaseCategories(const std::string& cases_path) {
+  std::map<std::string, std::string> out;
+  std::ifstream in(fs::path(cases_path).parent_path() / "cases.csv");
+  std::string line;
+  if (!std::getline(in, line)) return out;
+  const auto split = [](std::string l) {
+    if (!l.empty() && l.back() == '\r') l.pop_back();  // the benchmark's file has CRLF lines
+    std::vector<std::string> cells;
+    std::stringstream ss(l);
+    for (std::string cell; std::getline(ss, cell, ',');) cells.push_back(cell);
+    return cells;
+  };
+  const std::vector<std::string> header = split(line);
+  const auto column = [&](const char* name) {
+    return std::size_t(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const std::size_t name = column("name"), category = column("scene_category");
+  if (name >= header.size() || category >= header.size()) return out;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = split(line);
+    if (cells.size() == header.size()) out[cells[name]] = cells[category];
+  }
+  return out;
+}
+
+// Each case's model (its object's labelled points, in the camera frame of its capture) and scene
+// (the other capture, with the centroid of the object's labelled points as the truth).
+// With `only` non-empty, just the cases it names (each must exist); of those, every `every`-th.
+bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
+                    const std::vector<std::string>& only, int every, std::vector<EvalModel>* models,
+                    std::vector<Scene>* scenes, std::string* error) {
+  std::vector<LabelledCase> cases;
+  if (!LoadLabelledCases(path, data_dir, &cases, error)) return false;
+  if (every > 1) {
+    std::vector<LabelledCase> kept;
+    for (std::size_t i = 0; i < cases.size(); i += std::size_t(every)) kept.push_back(cases[i]);
+    cases.swap(kept);
+  }
+  if (!only.empty()) {
+    for (const std::string& name : only)
+      if (std::none_of(cases.begin(), cases.end(),
+                       [&](const LabelledCase& c) { return c.name == name; }))
+        return Fail(error, path + ": --only: no case named '" + name + "'");
+    cases.erase(std::remove_if(cases.begin(), cases.end(),
+                               [&](const LabelledCase& c) {
+                                 return std::find(only.begin(), only.end(), c.name) == only.end();
+                               }),
+                cases.end());
+  }
+  if (cases.empty()) return Fail(error, path + ": no cases");
+  const std::map<std::string, std::string> categories = CaseCategories(path);
+  // Each capture is loaded once; cases searching the same capture share its cloud.
+  struct Capture {
+    std::shared_ptr<const Cloud> cloud;
+    std::vector<std::uint32_t> labels;
+    CameraIntrinsics intrinsics;
+  };
+  std::map<std::string, Capture> loaded;
+  const auto load = [&](const std::string& file) -> const Capture* {
+    auto it = loaded.find(file);
+    if (it == loaded.end()) {
+      auto labelled = LoadLabelledCloud(file, error);
+      if (!labelled) return nullptr;
+      Capture c;
+      if (const auto k = EstimateIntrinsics(labelled->cloud)) c.intrinsics = *k;
+      c.cloud = std::make_shared<const Cloud>(std::move(labelled->cloud));
+      c.labels = std::move(labelled->labels);
+      it = loaded.emplace(file, std::move(c)).first;
+    }
+    return &it->second;
+  };
+  // The finite points of object k (mOSD labels 10k..10k+9), as a cloud; an error when none.
+  const auto object = [&](const LabelledCase& c, const std::string& file, const Capture& capture,
+                          int k) -> std::optional<Cloud> {
+    std::vector<int> points;
+    for (std::size_t i = 0; i < capture.labels.size(); ++i)
+      if (capture.labels[i] >= 10 && int(capture.labels[i] / 10) == k &&
+          (*capture.cloud)[i].getVector3fMap().allFinite())
+        points.push_back(int(i));
+    if (points.empty()) {
+      Fail(error, path + ": case " + c.name + ": " + file + " has no object " + std::to_string(k));
+      return std::nullopt;
+    }
+    return ExtractPoints(*capture.cloud, points);
+  };
+  for (const LabelledCase& c : cases) {
+    const Capture* source = load(c.model_file);
+    const Capture* target = source ? load(c.scene_file) : nullptr;
+    if (!target) return false;
+    auto model = object(c, c.model_file, *source, c.model_object);
+    const auto truth = model ? object(c, c.scene_file, *target, c.scene_object) : std::nullopt;
+    if (!truth) return false;
+    Scene s;
+    s.truth_m = *FiniteCentroid(*truth);
+    s.truth_pose = c.truth_pose;
+    s.feasible = c.feasible;
+    s.identity = c.identity.empty() ? c.name.substr(0, c.name.find('-')) : c.identity;
+    if (const auto it = categories.find(c.name); c.category.empty() && it != categories.end())
+      s.category = it->second;
+    else
+      s.category = c.category;
+    s.frame.cloud = target->cloud;
+    s.frame.intrinsics = target->intrinsics;
+    s.frame.sequence = scenes->size();
+    s.model = models->size();
+    s.name = c.name;
+    const Eigen::Vector3f centre = *FiniteCentroid(*model);
+    models->push_back({std::move(*model), centre});
+    scenes->push_back(std::move(s));
+  }
+  return true;
+}
+
+
+}  // namespace saccade::eval
