@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -18,6 +19,11 @@ namespace saccade {
 /// The point type of every cloud Saccade handles (XYZ plus packed colour; colour may be unset).
 using PointT = pcl::PointXYZRGBA;
 using Cloud = pcl::PointCloud<PointT>;
+
+/// True when the point has coordinates (an organized cloud's holes are NaN).
+inline bool FinitePoint(const PointT& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
 
 /// An axis-aligned box [min, max] in some frame (which the owner names). Empty when any
 /// max < min.

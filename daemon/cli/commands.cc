@@ -1,7 +1,7 @@
 #include "daemon/cli/commands.h"
 
-#include "core/recognition.h"
 #include "core/eval/reference_pipeline.h"
+#include "core/recognition.h"
 #include "core/sim/scenario.h"
 #include "daemon/args.h"
 #include "daemon/tbb_parallel.h"

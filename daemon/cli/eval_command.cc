@@ -2,11 +2,11 @@
 // paper's rule (§5.3), written as CSV and Markdown tables and plotted with gnuplot.
 #include "attention/attention.h"
 #include "core/eval/evaluation.h"
+#include "core/eval/opencv_ppf.h"
+#include "core/eval/reference_pipeline.h"
 #include "core/fail.h"
 #include "core/features.h"
-#include "core/eval/opencv_ppf.h"
 #include "core/recognition.h"
-#include "core/eval/reference_pipeline.h"
 #include "core/segmentation.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"

@@ -49,20 +49,18 @@ Eigen::Vector3f OffObject(std::size_t i) {
   return 0.15f * d.normalized();
 }
 
-
 Runner::Runner(const std::vector<EvalModel>& models, ParallelFor parallel, int repeat)
     : models_(models), parallel_(std::move(parallel)), repeat_(repeat) {}
 
-
-bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes, std::size_t placements,
-         const FoveaPlacement& fovea, std::vector<std::vector<Trial>>* trials,
-         std::vector<std::vector<Acquisition>>* acquisitions, std::string* error) const {
+bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
+                 std::size_t placements, const FoveaPlacement& fovea,
+                 std::vector<std::vector<Trial>>* trials,
+                 std::vector<std::vector<Acquisition>>* acquisitions, std::string* error) const {
   trials->assign(placements, {});
   if (acquisitions) acquisitions->assign(placements, {});
   const RecognitionOptions& o = c.config.recognition;
   using Pipeline = EvalConfiguration::Pipeline;
-  const bool is_stock = c.pipeline == Pipeline::kStock,
-             is_ppf = c.pipeline == Pipeline::kOpencvPpf;
+  const bool is_stock = c.pipeline == Pipeline::kStock, is_ppf = c.pipeline == Pipeline::kOpencvPpf;
   // ReferenceModel is move-constructible only: built in place.
   std::vector<std::optional<ReferenceModel>> stock(models_.size());
   std::vector<std::optional<ModelDescription>> described(models_.size());
@@ -135,8 +133,8 @@ std::vector<Eigen::Vector3f> Runner::Centres(const RecognitionResult& r, const S
 }
 
 CaseEvidence Runner::Evidence(const RecognitionResult& r, const Scene& s,
-                      const std::optional<ModelDescription>& model,
-                      const RecognitionOptions& given) const {
+                              const std::optional<ModelDescription>& model,
+                              const RecognitionOptions& given) const {
   CaseEvidence e;
   const EvalModel& m = models_[s.model];
   const Cloud& scene = *s.frame.cloud;
@@ -162,8 +160,8 @@ CaseEvidence Runner::Evidence(const RecognitionResult& r, const Scene& s,
 }
 
 Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
-                    const RecognitionOptions& o,
-                    const std::vector<Eigen::Vector3f>& first) const {
+                            const RecognitionOptions& o,
+                            const std::vector<Eigen::Vector3f>& first) const {
   constexpr int kMaxFrames = 30;
   Acquisition a;
   Attention attention(AttentionOptions{}, q.fovea_m);
@@ -195,7 +193,6 @@ Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s, Scene
   }
   return a;
 }
-
 
 Totals Score(const std::vector<Trial>& trials, const std::vector<Scene>& scenes, float threshold) {
   Totals t;
@@ -326,6 +323,5 @@ bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
   }
   return true;
 }
-
 
 }  // namespace saccade::eval

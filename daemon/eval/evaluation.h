@@ -104,8 +104,7 @@ class Runner {
                         const std::optional<ModelDescription>& model,
                         const RecognitionOptions& given) const;
   Acquisition Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
-                      const RecognitionOptions& o,
-                      const std::vector<Eigen::Vector3f>& first) const;
+                      const RecognitionOptions& o, const std::vector<Eigen::Vector3f>& first) const;
 
   const std::vector<EvalModel>& models_;
   const ParallelFor parallel_;

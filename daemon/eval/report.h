@@ -1,6 +1,6 @@
-// `saccade eval`'s report on cross-capture cases: recall with its interval on the feasible cases, false instances per case, time, pose
-// errors against the truth pose, per object and per category, where each miss was lost, and a
-// cross-validation of the choice of configuration across objects.
+// `saccade eval`'s report on cross-capture cases: recall with its interval on the feasible cases,
+// false instances per case, time, pose errors against the truth pose, per object and per category,
+// where each miss was lost, and a cross-validation of the choice of configuration across objects.
 #pragma once
 
 #include "daemon/eval/evaluation.h"

@@ -1,0 +1,176 @@
+#include "core/model.h"
+
+#include "core/fail.h"
+#include "core/foveation.h"
+#include "core/nearest_within.h"
+
+#include <pcl/kdtree/kdtree_flann.h>
+#include <flann/flann.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <mutex>
+#include <numeric>
+#include <type_traits>
+
+namespace saccade {
+
+ModelScale MeasureModel(const Cloud& model) {
+  ModelScale scale;
+  pcl::PointCloud<pcl::PointXYZ>::Ptr points(new pcl::PointCloud<pcl::PointXYZ>);
+  for (const PointT& p : model.points)
+    if (FinitePoint(p)) points->push_back(pcl::PointXYZ(p.x, p.y, p.z));
+  if (points->size() < 2) return scale;
+  const Box box = *BoundingBox(model);
+  scale.size_m = box.Size().norm();
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree(false);
+  tree.setInputCloud(points);
+  // A sample of a few thousand points gives the median spacing of a model of any size.
+  const std::size_t step = std::max<std::size_t>(1, points->size() / 4000);
+  std::vector<float> nearest;
+  pcl::Indices nn(2);
+  std::vector<float> d2(2);
+  for (std::size_t i = 0; i < points->size(); i += step)
+    if (tree.nearestKSearch((*points)[i], 2, nn, d2) == 2) nearest.push_back(std::sqrt(d2[1]));
+  if (nearest.empty()) return scale;
+  std::nth_element(nearest.begin(), nearest.begin() + nearest.size() / 2, nearest.end());
+  scale.spacing_m = nearest[nearest.size() / 2];
+  return scale;
+}
+
+RecognitionOptions FitRadii(const RecognitionOptions& base, const ModelScale& scale) {
+  RecognitionOptions o = base;
+  if (!(scale.size_m > 0)) return o;
+  const float shot = std::max(scale.size_m / 6, 8 * scale.spacing_m);
+  o.scene_shot_radius_m = o.model_shot_radius_m = shot;
+  o.scene_lrf_radius_m = o.model_lrf_radius_m = 0.75f * shot;
+  o.scene_keypoint_radius_m = o.model_keypoint_radius_m = std::max(shot / 4, scale.spacing_m);
+  o.hough_bin_m = o.pose_inlier_threshold_m = shot / 2;
+  return o;
+}
+
+RecognitionOptions RadiiForModel(const RecognitionOptions& options, const ModelScale& scale) {
+  return options.radii_from_model ? FitRadii(options, scale) : options;
+}
+
+namespace {
+
+// Squared Euclidean distance for FLANN over SHOT descriptors. FLANN's own L2 sums into one
+// accumulator, a serial chain the compiler may not vectorize (float addition does not
+// reassociate); Eigen's sum keeps several partial sums in vector registers. Other element
+// types (the k-means clustering's double centres) take the plain loop.
+struct ShotL2 {
+  typedef bool is_kdtree_distance;
+  typedef float ElementType;
+  typedef float ResultType;
+
+  template <typename Iterator1, typename Iterator2>
+  ResultType operator()(Iterator1 a, Iterator2 b, std::size_t size, ResultType = -1) const {
+    using A = std::remove_cv_t<std::remove_pointer_t<Iterator1>>;
+    using B = std::remove_cv_t<std::remove_pointer_t<Iterator2>>;
+    if constexpr (std::is_pointer_v<Iterator1> && std::is_pointer_v<Iterator2> &&
+                  std::is_same_v<A, float> && std::is_same_v<B, float>) {
+      const Eigen::Map<const Eigen::VectorXf> va(a, Eigen::Index(size)), vb(b, Eigen::Index(size));
+      return (va - vb).squaredNorm();
+    } else {
+      ResultType sum = 0;
+      for (std::size_t i = 0; i < size; ++i) {
+        const ResultType d = ResultType(a[i]) - ResultType(b[i]);
+        sum += d * d;
+      }
+      return sum;
+    }
+  }
+  template <typename U, typename V>
+  ResultType accum_dist(const U& a, const V& b, int) const {
+    return ResultType((a - b) * (a - b));
+  }
+};
+
+}  // namespace
+
+struct ModelDescription::Index {
+  std::vector<float> data;  // owned copy the FLANN matrix points into
+  std::unique_ptr<flann::KMeansIndex<ShotL2>> kmeans;
+};
+
+ModelDescription::~ModelDescription() = default;
+ModelDescription::ModelDescription(ModelDescription&&) noexcept = default;
+ModelDescription& ModelDescription::operator=(ModelDescription&&) noexcept = default;
+
+std::pair<int, float> ModelDescription::Nearest(const float* shot, float max_sqr_distance) const {
+  NearestWithin result(max_sqr_distance);
+  index_->kmeans->findNeighbors(result, shot, flann::SearchParams(checks_));
+  return {result.index(), result.sqr_distance()};
+}
+
+std::optional<Eigen::Vector3f> FiniteCentroid(const Cloud& cloud) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  std::size_t n = 0;
+  for (const auto& p : cloud.points) {
+    if (!FinitePoint(p)) continue;
+    sum += p.getVector3fMap().cast<double>();
+    ++n;
+  }
+  if (n == 0) return std::nullopt;
+  return Eigen::Vector3f((sum / static_cast<double>(n)).cast<float>());
+}
+
+std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& given,
+                                              std::string* error) {
+  ModelDescription out;
+  out.scale_ = MeasureModel(model);
+  const RecognitionOptions options = RadiiForModel(given, out.scale_);
+  // Only finite points make the model; its frame and units stay those of the file.
+  for (const auto& p : model.points)
+    if (FinitePoint(p)) out.cloud_.push_back(p);
+  if (out.cloud_.empty()) {
+    Fail(error, "model has no finite point");
+    return std::nullopt;
+  }
+  out.cloud_.width = static_cast<std::uint32_t>(out.cloud_.size());
+  out.cloud_.height = 1;
+  out.cloud_.sensor_origin_ = model.sensor_origin_;
+  out.cloud_.sensor_orientation_ = model.sensor_orientation_;
+  out.centroid_ =
+      options.vote_for_model_origin ? Eigen::Vector3f::Zero() : *FiniteCentroid(out.cloud_);
+
+  const std::vector<std::uint8_t> mask(out.cloud_.size(), 1);
+  const Normals normals = KnnNormals(out.cloud_, mask, options.model_normal_neighbors);
+  out.verification_ = MakeVerificationModel(out.cloud_, normals, options.verify.model_points);
+  std::vector<int> all(out.cloud_.size());
+  std::iota(all.begin(), all.end(), 0);
+  const std::vector<int> keypoints =
+      VoxelRepresentatives(out.cloud_, all, options.model_keypoint_radius_m);
+  const auto search = MakeKdTreeSearch(out.cloud_, mask);
+  DescribeOptions describe;
+  describe.shot_radius_m = options.model_shot_radius_m;
+  describe.lrf_radius_m = options.model_lrf_radius_m;
+  out.descriptors_ = DescribeKeypoints(out.cloud_, normals, keypoints, *search, describe);
+  if (out.descriptors_.size() == 0) {
+    Fail(error, "model has no describable keypoint (too few points for the SHOT radius?)");
+    return std::nullopt;
+  }
+  out.index_ = std::make_unique<ModelDescription::Index>();
+  out.index_->data = out.descriptors_.shot;
+  flann::Matrix<float> data(out.index_->data.data(), out.descriptors_.size(), kShotLength);
+  // A hierarchical k-means tree with k-means++ seeding: FLANN draws those seeds from std::rand,
+  // which we seed, so the index (and every match) is the same on every run. (FLANN's
+  // randomized kd-trees shuffle with std::random_device and cannot be made repeatable.)
+  // std::rand is one process-wide sequence and FLANN offers no other: the seed and the build
+  // that draws from it are one critical section, so two models described at once (a model
+  // switch while the evaluation describes another, say) each get the seeded sequence.
+  {
+    static std::mutex rand_mutex;
+    std::lock_guard<std::mutex> lock(rand_mutex);
+    std::srand(options.match_seed);
+    out.index_->kmeans = std::make_unique<flann::KMeansIndex<ShotL2>>(
+        data, flann::KMeansIndexParams(options.match_branching, 11, flann::FLANN_CENTERS_KMEANSPP));
+    out.index_->kmeans->buildIndex();
+  }
+  out.checks_ = options.match_checks;
+  return out;
+}
+
+}  // namespace saccade

@@ -1,0 +1,86 @@
+// A model described once for recognition: its scale, the radii fitted to it, its keypoints'
+// local frames and SHOT descriptors, and the search index over them.
+#pragma once
+
+#include "core/features.h"
+#include "core/recognition_options.h"
+#include "core/types.h"
+#include "core/verification.h"
+
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace saccade {
+
+/// How big a model is and how finely it is sampled: what its radii must fit.
+struct ModelScale {
+  float size_m = 0;     // the diagonal of its bounding box
+  float spacing_m = 0;  // the median distance from a point to its nearest neighbour
+};
+
+/// The scale of the model's finite points; zeros when it has fewer than two.
+ModelScale MeasureModel(const Cloud& model);
+
+/// `base` with radii fitted to a model of `scale`: a SHOT support of a sixth of the model's size
+/// (enough of the object to be distinctive, little enough to survive occlusion and another
+/// viewpoint) but at least eight point spacings (a histogram needs points), an LRF radius of
+/// three quarters of it, model keypoints a quarter of it apart (scene keypoints of plain
+/// recognition too; the fovea's come from FoveaOptions), and a Hough bin and pose tolerance of
+/// half of it (the residual error of frames that wide). Other fields are kept.
+RecognitionOptions FitRadii(const RecognitionOptions& base, const ModelScale& scale);
+
+/// The options a model of `scale` is described and searched with: FitRadii(options, scale) when
+/// options.radii_from_model is set, else `options` as they are.
+RecognitionOptions RadiiForModel(const RecognitionOptions& options, const ModelScale& scale);
+
+/// The model, described once: its keypoints, their frames and descriptors, and a search
+/// index over the descriptors. Immutable after DescribeModel; safe to share between threads.
+class ModelDescription {
+ public:
+  ~ModelDescription();
+  ModelDescription(ModelDescription&&) noexcept;
+  ModelDescription& operator=(ModelDescription&&) noexcept;
+
+  const Cloud& cloud() const { return cloud_; }
+  const Descriptors& descriptors() const { return descriptors_; }
+  /// The point instances vote for, model frame, metres: the centroid of the model's points, or
+  /// the origin with RecognitionOptions::vote_for_model_origin.
+  const Eigen::Vector3f& centroid() const { return centroid_; }
+  /// The model as hypothesis verification uses it.
+  const VerificationModel& verification() const { return verification_; }
+  /// Its size and point spacing: with radii_from_model, Recognize fits its radii to these.
+  const ModelScale& scale() const { return scale_; }
+
+  /// Nearest model descriptor of `shot` (kShotLength floats) within sqrt(max_sqr_distance):
+  /// index into descriptors() (-1 when none is that near) and squared distance. The bound
+  /// prunes the search.
+  std::pair<int, float> Nearest(
+      const float* shot, float max_sqr_distance = std::numeric_limits<float>::infinity()) const;
+
+ private:
+  friend std::optional<ModelDescription> DescribeModel(const Cloud&, const RecognitionOptions&,
+                                                       std::string*);
+  ModelDescription() = default;
+  Cloud cloud_;
+  Descriptors descriptors_;
+  Eigen::Vector3f centroid_ = Eigen::Vector3f::Zero();
+  VerificationModel verification_;
+  ModelScale scale_;
+  struct Index;
+  std::unique_ptr<Index> index_;
+  int checks_ = 0;  // set from RecognitionOptions::match_checks by DescribeModel
+};
+
+/// The centroid of the finite points, in the cloud's frame; nullopt when none is finite.
+std::optional<Eigen::Vector3f> FiniteCentroid(const Cloud& cloud);
+
+/// Describes the model (normals k_nm, uniform-sampling keypoints r_km, SHOT r_sm, LRF r_lm).
+/// nullopt with `error` set when the cloud has no finite point or no describable keypoint.
+std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& options,
+                                              std::string* error);
+
+}  // namespace saccade
