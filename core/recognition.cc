@@ -172,7 +172,7 @@ PoseError ComparePoses(const Eigen::Matrix4f& estimate, const Eigen::Matrix4f& t
   err.translation_m = (e * model_point.cast<double>() - g * model_point.cast<double>()).norm();
   const Eigen::Matrix3d dR = e.linear().transpose() * g.linear();
   const double c = std::clamp((dR.trace() - 1.0) / 2.0, -1.0, 1.0);
-  err.rotation_deg = std::acos(c) * 180.0 / M_PI;
+  err.rotation_deg = std::acos(c) * 180.0 / EIGEN_PI;
   return err;
 }
 

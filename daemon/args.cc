@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
+#include "core/fail.h"
 
 namespace saccade {
 
@@ -11,8 +12,7 @@ bool Args::Parse(const std::vector<std::string>& argv, const std::set<std::strin
   for (std::size_t i = 0; i < argv.size(); ++i) {
     const std::string& a = argv[i];
     if (a.rfind("--", 0) != 0) {
-      *error = "unexpected argument '" + a + "'";
-      return false;
+      return Fail(error, "unexpected argument '" + a + "'");
     }
     std::string name = a.substr(2), value;
     const auto eq = name.find('=');
@@ -26,15 +26,13 @@ bool Args::Parse(const std::vector<std::string>& argv, const std::set<std::strin
     } else if (valued.count(name)) {
       if (!inline_value) {
         if (i + 1 >= argv.size()) {
-          *error = "flag --" + name + " needs a value";
-          return false;
+          return Fail(error, "flag --" + name + " needs a value");
         }
         value = argv[++i];
       }
       values_[name] = value;
     } else {
-      *error = "unknown flag --" + name;
-      return false;
+      return Fail(error, "unknown flag --" + name);
     }
   }
   return true;

@@ -1,4 +1,6 @@
 // saccaded: the tracking service. Frames in, detections and fixations out over LCM.
+
+#include "core/fail.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/notify.h"
@@ -38,8 +40,7 @@ bool LoadSettings(const saccade::Args& args, saccade::DaemonSettings* settings,
   if (args.Has("model")) s.models = {args.Get("model")};
   if (args.Has("lcm-url")) s.bus.url = args.Get("lcm-url");
   if (s.models.empty()) {
-    *error = "no model: set 'model' in the config file or pass --model";
-    return false;
+    return saccade::Fail(error, "no model: set 'model' in the config file or pass --model");
   }
   if (!s.IsValid(error)) return false;
   *settings = s;

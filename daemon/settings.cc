@@ -50,16 +50,15 @@ bool LoadDaemonSettings(const std::string& path, DaemonSettings* settings, std::
   std::vector<std::string> set;
   if (!ApplyConfigFile(path, schema, error, &set)) {
     if (error->find("key 'fovea.growth_m': unknown key") != std::string::npos)
-      *error = path +
-               ": key 'fovea.growth_m': set by the attention loop in saccaded (see the "
-               "attention section's growth_* keys)";
+      Fail(error, path +
+                      ": key 'fovea.growth_m': set by the attention loop in saccaded (see the "
+                      "attention section's growth_* keys)");
     return false;
   }
   WarnIgnoredKeys(path, "recognition.", s.recognition, set);
   std::string why;
   if (!s.IsValid(&why)) {
-    *error = path + ": " + why;
-    return false;
+    return Fail(error, path + ": " + why);
   }
   *settings = s;
   return true;

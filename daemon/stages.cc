@@ -1,5 +1,6 @@
 #include "daemon/stages.h"
 
+#include "core/fail.h"
 #include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"
 #include "io/frame_source.h"
@@ -54,7 +55,7 @@ std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
     std::string why;
     std::optional<ModelDescription> d = DescribeModel(*cloud, options, &why);
     if (!d) {
-      *error = "model '" + spec + "': " + why;
+      Fail(error, "model '" + spec + "': " + why);
       return std::nullopt;
     }
     models.push_back(std::make_shared<const NamedModel>(NamedModel{spec, std::move(*d)}));

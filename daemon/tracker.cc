@@ -1,5 +1,6 @@
 #include "daemon/tracker.h"
 
+#include "core/fail.h"
 #include "daemon/serial_worker.h"
 #include "daemon/stages.h"
 #include "io/log.h"
@@ -301,8 +302,7 @@ bool Tracker::Run(std::string* error) {
   s.PublishStatus(seconds, true);
   Log(LogLevel::kInfo, s.publish.RunLine(seconds, s.source->Stats()));
   if (!source_error.empty()) {
-    *error = "source " + s.settings.source + ": " + source_error;
-    return false;
+    return Fail(error, "source " + s.settings.source + ": " + source_error);
   }
   return true;
 }

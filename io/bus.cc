@@ -52,8 +52,7 @@ class LcmBus : public Bus {
   // The command thread's wake pipe, made at open so that a failure is an open error.
   bool MakeWakePipe(std::string* error) {
     if (pipe(wake_) == 0) return true;
-    *error = "cannot create the command thread's wake pipe";
-    return false;
+    return Fail(error, "cannot create the command thread's wake pipe");
   }
 
   void Subscribe(CommandHandler handler) override {
@@ -263,8 +262,8 @@ bool BusOptions::IsValid(std::string* error) const {
 std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error) {
   auto lcm = std::make_unique<lcm::LCM>(options.url);
   if (!lcm->good()) {
-    *error = "cannot open LCM at '" + options.url +
-             "' (a malformed URL, or no multicast route: see docs/LCM.md)";
+    Fail(error, "cannot open LCM at '" + options.url +
+                    "' (a malformed URL, or no multicast route: see docs/LCM.md)");
     return nullptr;
   }
   auto bus = std::make_unique<LcmBus>(options, std::move(lcm));

@@ -72,12 +72,10 @@ std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::str
 bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error) {
   QuietPcl();
   if (cloud.empty()) {
-    *error = path + ": refusing to write an empty cloud";
-    return false;
+    return Fail(error, path + ": refusing to write an empty cloud");
   }
   if (pcl::io::savePCDFileBinaryCompressed(path, cloud) < 0) {
-    *error = path + ": cannot write PCD file";
-    return false;
+    return Fail(error, path + ": cannot write PCD file");
   }
   return true;
 }
@@ -92,7 +90,7 @@ std::size_t CountFinite(const Cloud& cloud) {
 std::optional<Eigen::Matrix4f> LoadPose(const std::string& path, std::string* error) {
   std::ifstream in(path);
   if (!in) {
-    *error = path + ": cannot open pose file";
+    Fail(error, path + ": cannot open pose file");
     return std::nullopt;
   }
   std::vector<double> values;
@@ -104,25 +102,26 @@ std::optional<Eigen::Matrix4f> LoadPose(const std::string& path, std::string* er
     char* end = nullptr;
     const double v = std::strtod(token.c_str(), &end);
     if (end == token.c_str() || *end != '\0' || !std::isfinite(v)) {
-      *error = path + ": '" + token + "' is not a finite number";
+      Fail(error, path + ": '" + token + "' is not a finite number");
       return std::nullopt;
     }
     values.push_back(v);
   }
   if (values.size() != 16) {
-    *error = path + ": expected 16 numbers (a 4x4 matrix), found " + std::to_string(values.size());
+    Fail(error,
+         path + ": expected 16 numbers (a 4x4 matrix), found " + std::to_string(values.size()));
     return std::nullopt;
   }
   Eigen::Matrix4f pose;
   for (int i = 0; i < 16; ++i) pose(i / 4, i % 4) = static_cast<float>(values[i]);
   if (!pose.row(3).isApprox(Eigen::RowVector4f(0, 0, 0, 1), 1e-6f)) {
-    *error = path + ": last row must be 0 0 0 1";
+    Fail(error, path + ": last row must be 0 0 0 1");
     return std::nullopt;
   }
   const Eigen::Matrix3f R = pose.topLeftCorner<3, 3>();
   if (!(R * R.transpose()).isApprox(Eigen::Matrix3f::Identity(), 1e-3f) ||
       std::abs(R.determinant() - 1.0f) > 1e-3f) {
-    *error = path + ": the 3x3 block is not a proper rotation";
+    Fail(error, path + ": the 3x3 block is not a proper rotation");
     return std::nullopt;
   }
   return pose;
@@ -136,7 +135,7 @@ std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error)
     unsigned seed = 1;
     char tail = 0;
     if (!rest.empty() && std::sscanf(rest.c_str(), "?seed=%u%c", &seed, &tail) != 1) {
-      *error = spec + ": expected " + prefix + " or " + prefix + "?seed=N";
+      Fail(error, spec + ": expected " + prefix + " or " + prefix + "?seed=N");
       return std::nullopt;
     }
     return name == "target" ? SyntheticTargetModel(seed) : SyntheticBallModel(seed);

@@ -1,5 +1,6 @@
 #include "io/config.h"
 
+#include "core/fail.h"
 #include "io/log.h"
 
 #include <yaml-cpp/yaml.h>
@@ -74,15 +75,14 @@ bool ApplyKey(const std::map<std::string, Setter>& setters, const std::string& k
         {"keypoint_radius_0_m", "outer_keypoint_radius_m"},
         {"keypoint_radius_m_m", "inner_keypoint_radius_m"}};
     const auto renamed = kRenamed.find(key);
-    *error = path + ": key '" + qualified + "': unknown key" +
-             (renamed == kRenamed.end() ? "" : " (it is now '" + renamed->second + "')");
-    return false;
+    return Fail(error,
+                path + ": key '" + qualified + "': unknown key" +
+                    (renamed == kRenamed.end() ? "" : " (it is now '" + renamed->second + "')"));
   }
   try {
     it->second(value);
   } catch (const YAML::Exception& e) {
-    *error = path + ": key '" + qualified + "': wrong type (" + e.msg + ")";
-    return false;
+    return Fail(error, path + ": key '" + qualified + "': wrong type (" + e.msg + ")");
   }
   return true;
 }
@@ -91,8 +91,7 @@ bool ApplySection(const YAML::Node& section, const std::string& name,
                   const std::map<std::string, Setter>& setters, const std::string& path,
                   std::string* error, std::vector<std::string>* set = nullptr) {
   if (!section.IsMap()) {
-    *error = path + ": key '" + name + "': expected a mapping";
-    return false;
+    return Fail(error, path + ": key '" + name + "': expected a mapping");
   }
   for (const auto& kv : section) {
     const std::string key = kv.first.as<std::string>();
@@ -126,15 +125,12 @@ bool LoadRoot(const std::string& path, YAML::Node* root, std::string* error) {
   try {
     *root = YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {
-    *error = path + ": cannot open file";
-    return false;
+    return Fail(error, path + ": cannot open file");
   } catch (const YAML::Exception& e) {
-    *error = path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg;
-    return false;
+    return Fail(error, path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
   if (!root->IsNull() && !root->IsMap()) {
-    *error = path + ": top level must be a mapping";
-    return false;
+    return Fail(error, path + ": top level must be a mapping");
   }
   return true;
 }
@@ -145,8 +141,7 @@ bool LoadRoot(const std::string& path, YAML::Node* root, std::string* error) {
 bool LoadClutter(const YAML::Node& list, const std::string& path,
                  std::vector<Scenario::Clutter>* clutter, std::string* error) {
   if (!list.IsSequence()) {
-    *error = path + ": key 'clutter': expected a list of objects";
-    return false;
+    return Fail(error, path + ": key 'clutter': expected a list of objects");
   }
   clutter->clear();
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -167,9 +162,8 @@ bool LoadClutter(const YAML::Node& list, const std::string& path,
       c.shape.parts.push_back(Shape::Part::Sphere(Eigen::Vector3f::Zero(), radius));
       c.bottom_y_m = radius;
     } else {
-      *error = path + ": key '" + name + "': kind must be box (half_size_m > 0) or sphere " +
-               "(radius_m > 0)";
-      return false;
+      return Fail(error, path + ": key '" + name +
+                             "': kind must be box (half_size_m > 0) or sphere " + "(radius_m > 0)");
     }
     clutter->push_back(c);
   }
@@ -182,13 +176,13 @@ bool LoadScenario(const std::string& path, Scenario* scenario, std::string* erro
   YAML::Node root;
   if (!LoadRoot(path, &root, error)) return false;
   if (root.IsNull() || !root["preset"]) {
-    *error = path + ": key 'preset': required (one of the named scenarios to start from)";
-    return false;
+    return Fail(error,
+                path + ": key 'preset': required (one of the named scenarios to start from)");
   }
   const auto preset = ScenarioPreset(root["preset"].as<std::string>());
   if (!preset) {
-    *error = path + ": key 'preset': unknown scenario '" + root["preset"].as<std::string>() + "'";
-    return false;
+    return Fail(error, path + ": key 'preset': unknown scenario '" +
+                           root["preset"].as<std::string>() + "'");
   }
   Scenario& s = *scenario;
   s = *preset;
@@ -221,8 +215,7 @@ bool LoadScenario(const std::string& path, Scenario* scenario, std::string* erro
   }
   std::string why;
   if (!s.IsValid(&why)) {
-    *error = path + ": " + why;
-    return false;
+    return Fail(error, path + ": " + why);
   }
   return true;
 }
@@ -303,12 +296,10 @@ bool LoadRecognitionConfig(const std::string& path, RecognitionConfig* config, s
   WarnIgnoredKeys(path, "recognition.", r, set);
   std::string why;
   if (!r.IsValid(&why)) {
-    *error = path + ": recognition: " + why;
-    return false;
+    return Fail(error, path + ": recognition: " + why);
   }
   if (!f.IsValid(&why)) {
-    *error = path + ": fovea: " + why;
-    return false;
+    return Fail(error, path + ": fovea: " + why);
   }
   return true;
 }
@@ -327,18 +318,16 @@ bool ForEachListEntry(const std::string& path, const std::string& list_key, cons
   const bool has_header = !header_key.empty() && root.IsMap() && root[header_key];
   if (root.IsNull() || !root[list_key] || !root[list_key].IsSequence() ||
       root.size() != 1 + (has_header ? 1 : 0)) {
-    *error = path + ": expected the key '" + list_key + "', holding a list" +
-             (header_key.empty() ? std::string(", and nothing else")
-                                 : ", and at most '" + header_key + "' beside it");
-    return false;
+    return Fail(error, path + ": expected the key '" + list_key + "', holding a list" +
+                           (header_key.empty() ? std::string(", and nothing else")
+                                               : ", and at most '" + header_key + "' beside it"));
   }
   if (has_header && !header(root[header_key])) return false;
   const YAML::Node list = root[list_key];
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string name = list_key + "[" + std::to_string(i) + "]";
     if (!list[i].IsMap()) {
-      *error = path + ": key '" + name + "': expected a mapping";
-      return false;
+      return Fail(error, path + ": key '" + name + "': expected a mapping");
     }
     if (!entry(list[i], i, name)) return false;
   }
@@ -357,8 +346,8 @@ bool ApplyRecognitionAndFovea(const YAML::Node& node, const std::string& name,
     const std::string key = kv.first.as<std::string>();
     const auto section = sections.find(key);
     if (section == sections.end()) {
-      *error = path + ": key '" + name + "." + key + "': unknown (expected recognition, fovea)";
-      return false;
+      return Fail(error,
+                  path + ": key '" + name + "." + key + "': unknown (expected recognition, fovea)");
     }
     if (!ApplySection(kv.second, name + "." + key, *section->second, path, error, set))
       return false;
@@ -374,8 +363,7 @@ bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& ba
   RecognitionConfig defaults = base;
   const auto apply_defaults = [&](const YAML::Node& node) {
     if (!node.IsMap()) {
-      *error = path + ": key 'defaults': expected a mapping";
-      return false;
+      return Fail(error, path + ": key 'defaults': expected a mapping");
     }
     return ApplyRecognitionAndFovea(node, "defaults", &defaults, path, error);
   };
@@ -407,8 +395,7 @@ bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& ba
         WarnIgnoredKeys(path, entry + ".recognition.", c.config.recognition, set);
         std::string why;
         if (!c.config.recognition.IsValid(&why) || !c.config.fovea.IsValid(&why)) {
-          *error = path + ": " + entry + " (" + c.name + "): " + why;
-          return false;
+          return Fail(error, path + ": " + entry + " (" + c.name + "): " + why);
         }
         out->push_back(std::move(c));
         return true;
@@ -443,8 +430,8 @@ bool LoadLabelledCases(const std::string& path, const std::string& data_dir,
         }
         const auto check = [&](const char* what, std::string* file, int object) {
           if (file->empty() || object < 1) {
-            *error = path + ": key '" + entry + "." + what + "': needs a file and an object >= 1";
-            return false;
+            return Fail(error, path + ": key '" + entry + "." + what +
+                                   "': needs a file and an object >= 1");
           }
           if ((*file)[0] != '/') *file = data_dir + "/" + *file;
           return true;

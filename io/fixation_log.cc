@@ -1,5 +1,6 @@
 #include "io/fixation_log.h"
 
+#include "core/fail.h"
 #include "io/json.h"
 #include "io/text.h"
 
@@ -39,8 +40,7 @@ bool FixationWriter::FormatOf(const std::string& path, Format* format, std::stri
   } else if (EndsWith(path, ".jsonl")) {
     *format = Format::kJsonl;
   } else {
-    *error = "'" + path + "': the output must end in .csv or .jsonl";
-    return false;
+    return Fail(error, "'" + path + "': the output must end in .csv or .jsonl");
   }
   return true;
 }
@@ -83,8 +83,7 @@ bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
                         FixationWriter* writer, FixationLogStats* stats, std::string* error) {
   lcm::LogFile log(log_path, "r");
   if (!log.good()) {
-    *error = "'" + log_path + "': cannot read it as an LCM log";
-    return false;
+    return Fail(error, "'" + log_path + "': cannot read it as an LCM log");
   }
   while (const lcm::LogEvent* e = log.readNextEvent()) {
     if (e->channel != channel) continue;
@@ -122,8 +121,7 @@ bool ListenFixations(const std::string& url, const std::string& channel, Fixatio
                      FixationLogStats* stats, std::string* error) {
   lcm::LCM lcm(url);
   if (!lcm.good()) {
-    *error = "cannot open LCM at '" + url + "'";
-    return false;
+    return Fail(error, "cannot open LCM at '" + url + "'");
   }
   Listener listener{writer, stats};
   lcm.subscribe(channel, &Listener::On, &listener);

@@ -61,7 +61,7 @@ class SequenceSource : public FrameSource {
     auto item = mailbox_.Take();
     if (!item) return Status::kEnd;
     if (item->status == Status::kFrame) *frame = std::move(item->frame);
-    if (item->status == Status::kError && error) *error = item->error;
+    if (item->status == Status::kError) Fail(error, item->error);
     return item->status;
   }
 

@@ -1,5 +1,6 @@
 #include "io/frame_writer.h"
 
+#include "core/fail.h"
 #include "io/cloud_io.h"
 #include "io/images.h"
 #include "io/truth_file.h"
@@ -27,7 +28,7 @@ std::unique_ptr<FrameWriter> FrameWriter::Open(const std::string& dir, Format fo
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) {
-    *error = dir + ": cannot create output folder" + (ec ? ": " + ec.message() : "");
+    Fail(error, dir + ": cannot create output folder" + (ec ? ": " + ec.message() : ""));
     return nullptr;
   }
   std::unique_ptr<FrameWriter> w(new FrameWriter);
@@ -44,9 +45,8 @@ bool FrameWriter::Write(const Frame& frame, std::string* error) {
   } else {
     const auto& k = frame.intrinsics;
     if (static_cast<int>(cloud.width) != k.width || static_cast<int>(cloud.height) != k.height) {
-      *error = dir_ + ": frame " + std::to_string(frame.sequence) +
-               " is not an organized image of its intrinsics' size";
-      return false;
+      return Fail(error, dir_ + ": frame " + std::to_string(frame.sequence) +
+                             " is not an organized image of its intrinsics' size");
     }
     if (count_ == 0) {
       const IntrinsicsFile file{k.fx, k.fy, k.cx, k.cy, k.width, k.height};
@@ -83,8 +83,7 @@ bool FrameWriter::Write(const Frame& frame, std::string* error) {
     truth_ << TruthCsvRow({frame.sequence, frame.capture_utime, *frame.truth}) << "\n";
     truth_.flush();
     if (!truth_) {
-      *error = (dir / kTruthFileName).string() + ": cannot write";
-      return false;
+      return Fail(error, (dir / kTruthFileName).string() + ": cannot write");
     }
   }
   ++count_;

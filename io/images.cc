@@ -1,5 +1,6 @@
 #include "io/images.h"
 
+#include "core/fail.h"
 #include "io/text.h"
 
 #include <png.h>
@@ -20,8 +21,7 @@ namespace saccade {
 namespace {
 
 bool Fail(std::string* error, const std::string& path, const std::string& why) {
-  if (error) *error = path + ": " + why;
-  return false;
+  return saccade::Fail(error, path + ": " + why);
 }
 
 bool IsTiff(const std::string& path) { return EndsWith(path, ".tif") || EndsWith(path, ".tiff"); }

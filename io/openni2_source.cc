@@ -97,7 +97,7 @@ class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameL
     auto item = mailbox_.Take();
     if (!item) return Status::kEnd;
     if (!item->ok) {
-      *error = item->error;
+      Fail(error, item->error);
       return Status::kError;
     }
     *frame = std::move(item->frame);
@@ -327,14 +327,14 @@ class PlaybackSource : public StreamSource {
       if (rc == openni::STATUS_OK) break;
       if (stopped_) return Status::kEnd;
       if (rc != openni::STATUS_TIME_OUT) {
-        *error = path_ + ": playback failed: " + LastOpenNIError();
+        Fail(error, path_ + ": playback failed: " + LastOpenNIError());
         return Status::kError;
       }
     }
     Item item = ReadOne();
     ++read_;
     if (!item.ok) {
-      *error = path_ + ": " + item.error;
+      Fail(error, path_ + ": " + item.error);
       return Status::kError;
     }
     *frame = std::move(item.frame);

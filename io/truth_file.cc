@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include "core/fail.h"
 
 namespace saccade {
 
@@ -25,13 +26,11 @@ std::string TruthCsvRow(const TruthRow& row) {
 bool ReadTruthFile(const std::string& path, std::vector<TruthRow>* rows, std::string* error) {
   std::ifstream in(path);
   if (!in) {
-    *error = path + ": cannot open";
-    return false;
+    return Fail(error, path + ": cannot open");
   }
   std::string line;
   if (!std::getline(in, line) || line != TruthCsvHeader()) {
-    *error = path + ": line 1: expected the header '" + TruthCsvHeader() + "'";
-    return false;
+    return Fail(error, path + ": line 1: expected the header '" + TruthCsvHeader() + "'");
   }
   rows->clear();
   for (int number = 2; std::getline(in, line); ++number) {
@@ -46,8 +45,7 @@ bool ReadTruthFile(const std::string& path, std::vector<TruthRow>* rows, std::st
       v.push_back(x);
     }
     if (v.size() != 13) {
-      *error = path + ": line " + std::to_string(number) + ": expected 13 numbers";
-      return false;
+      return Fail(error, path + ": line " + std::to_string(number) + ": expected 13 numbers");
     }
     TruthRow row;
     row.sequence = static_cast<std::uint64_t>(v[0]);
@@ -55,8 +53,8 @@ bool ReadTruthFile(const std::string& path, std::vector<TruthRow>* rows, std::st
     Eigen::Quaternionf q(static_cast<float>(v[5]), static_cast<float>(v[6]),
                          static_cast<float>(v[7]), static_cast<float>(v[8]));
     if (std::abs(q.norm() - 1.0f) > 1e-3f) {
-      *error = path + ": line " + std::to_string(number) + ": quaternion is not unit length";
-      return false;
+      return Fail(error,
+                  path + ": line " + std::to_string(number) + ": quaternion is not unit length");
     }
     row.truth.target_pose = Eigen::Isometry3f::Identity();
     row.truth.target_pose.linear() = q.normalized().toRotationMatrix();

@@ -6,6 +6,7 @@
 #include <pcl/filters/uniform_sampling.h>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/recognition/cg/hough_3d.h>
+#include "core/fail.h"
 
 #include <chrono>
 #include <cmath>
@@ -104,7 +105,7 @@ std::optional<ReferenceModel> DescribeReferenceModel(const Cloud& model,
   ReferenceModel::Impl& m = *out.impl_;
   m.cloud = FiniteCopy(model);
   if (m.cloud->empty()) {
-    if (error) *error = "model has no finite point";
+    Fail(error, "model has no finite point");
     return std::nullopt;
   }
   m.described = Describe(m.cloud, o.model_normal_neighbors, o.model_keypoint_radius_m,
@@ -128,7 +129,7 @@ RecognitionResult RecognizeReference(const ReferenceModel& model, const Cloud& s
   Cloud::Ptr cloud = FiniteCopy(scene);
   result.stats.stage_ms.emplace_back("foveate", MsSince(t));
   if (cloud->empty()) {
-    if (error) *error = "scene has no finite point";
+    Fail(error, "scene has no finite point");
     return result;
   }
   const auto& m = model.impl();

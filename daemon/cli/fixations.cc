@@ -1,4 +1,6 @@
 // `saccade log-fixations` (live, from LCM) and `saccade fixations LOG` (from an lcm-logger
+
+#include "core/fail.h"
 // file): the attention log as CSV or JSON lines.
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
@@ -32,8 +34,7 @@ bool OpenOutput(const Args& args, std::ostream& out, Output* output, std::string
   if (path != "-") {
     output->file.open(path);
     if (!output->file) {
-      *error = "'" + path + "': cannot write it";
-      return false;
+      return Fail(error, "'" + path + "': cannot write it");
     }
   }
   output->writer = std::make_unique<FixationWriter>(path == "-" ? out : output->file, format);

@@ -1,4 +1,6 @@
 // saccade segment: cut an object out of a capture and write it as a model (paper §5.8.1).
+
+#include "core/fail.h"
 #include "core/segmentation.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
@@ -80,8 +82,8 @@ std::optional<std::size_t> Pick(const PickRule& rule, const Segmentation& s, std
       break;
   }
   if (rule.index >= s.clusters.size()) {
-    *error = "--pick " + std::to_string(rule.index) + ": only " +
-             std::to_string(s.clusters.size()) + " cluster(s) found (indices from 0)";
+    Fail(error, "--pick " + std::to_string(rule.index) + ": only " +
+                    std::to_string(s.clusters.size()) + " cluster(s) found (indices from 0)");
     return std::nullopt;
   }
   return rule.index;

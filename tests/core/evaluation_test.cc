@@ -26,12 +26,12 @@ TEST(WilsonInterval, MatchesTheTextbookFiguresAndStaysInsideZeroOne) {
 TEST(SymmetricPoseDistance, ZeroForATurnThatMapsTheObjectOntoItselfNotForAShift) {
   std::vector<Eigen::Vector3f> ring;  // 12 points on a circle about z: a turn by 30 degrees
   for (int k = 0; k < 12; ++k)
-    ring.emplace_back(0.1f * std::cos(k * float(M_PI) / 6), 0.1f * std::sin(k * float(M_PI) / 6),
-                      0);
+    ring.emplace_back(0.1f * std::cos(k * float(EIGEN_PI) / 6),
+                      0.1f * std::sin(k * float(EIGEN_PI) / 6), 0);
   const Eigen::Matrix4f I = Eigen::Matrix4f::Identity();
   Eigen::Matrix4f turn = I;
   turn.topLeftCorner<3, 3>() =
-      Eigen::AngleAxisf(float(M_PI) / 6, Eigen::Vector3f::UnitZ()).matrix();
+      Eigen::AngleAxisf(float(EIGEN_PI) / 6, Eigen::Vector3f::UnitZ()).matrix();
   EXPECT_NEAR(SymmetricPoseDistance(turn, I, ring), 0.0, 1e-6);
   Eigen::Matrix4f lift = I;
   lift(2, 3) = 0.01f;  // every point 1 cm off the ring's plane

@@ -166,7 +166,8 @@ TEST(FoveationGeometry, OrientedOuterBoxRotatesTheLevels) {
   o.outer_box_from_scene = false;
   o.outer_size_m = Eigen::Vector3f(2, 2, 2);
   o.outer_min_corner_m = Eigen::Vector3f(0, 0, 0);
-  o.outer_orientation = Eigen::AngleAxisf(M_PI / 2, Eigen::Vector3f::UnitZ());  // box x = camera y
+  o.outer_orientation =
+      Eigen::AngleAxisf(EIGEN_PI / 2, Eigen::Vector3f::UnitZ());  // box x = camera y
   o.inner_size_m = Eigen::Vector3f(0.2f, 0.2f, 0.2f);
   o.finest_level = 1;
   const Eigen::Vector3f fovea(-0.5f, 0.5f, 1.0f);  // box coordinates (0.5, 0.5, 1.0)

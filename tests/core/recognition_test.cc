@@ -358,7 +358,7 @@ TEST(OrganizedSearch, WideWindowsAreSampledNotCut) {
   MakeOrganizedSearch(plane, k, mask)->Radius(query, radius, &all, &d_all);
   MakeOrganizedSearch(plane, k, mask, 8)->Radius(query, radius, &sampled, &d_sampled);
   // Every pixel of the disc, or every third one (21 px / 8 rounds up to a step of 3).
-  EXPECT_NEAR(double(all.size()), M_PI * 21 * 21, 60);
+  EXPECT_NEAR(double(all.size()), EIGEN_PI * 21 * 21, 60);
   EXPECT_NEAR(double(sampled.size()), double(all.size()) / 9, 15);
   // The samples lie on one image-wide grid, so a neighbouring query reads the same pixels.
   for (int i : sampled) {
@@ -456,7 +456,8 @@ TEST(VerifyInstances, KeepsTheTruePoseAndRejectsWrongOnes) {
     return d;
   };
   const Eigen::Matrix3f I = Eigen::Matrix3f::Identity();
-  const Eigen::Matrix3f flip = Eigen::AngleAxisf(float(M_PI), Eigen::Vector3f::UnitZ()).matrix();
+  const Eigen::Matrix3f flip =
+      Eigen::AngleAxisf(float(EIGEN_PI), Eigen::Vector3f::UnitZ()).matrix();
   const std::vector<Detection> hypotheses = {
       about_centre(I, {0.3f, 0, 0}), about_centre(flip, {0, 0, 0}), about_centre(I, {0, 0, -0.1f}),
       about_centre(I, {0.01f, 0, 0})};

@@ -44,7 +44,7 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   options.robot.name = "base_link";
   options.robot.translation_m = Eigen::Vector3f(0.1f, 0.0f, 0.5f);
   options.robot.rotation =
-      Eigen::AngleAxisf(static_cast<float>(M_PI) / 2, Eigen::Vector3f::UnitZ());
+      Eigen::AngleAxisf(static_cast<float>(EIGEN_PI) / 2, Eigen::Vector3f::UnitZ());
   std::string error;
   auto bus = OpenLcmBus(options, &error);
   ASSERT_TRUE(bus) << error;
@@ -98,8 +98,8 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   EXPECT_NEAR(i.trans[0], 0.1, 1e-5);
   EXPECT_NEAR(i.trans[1], 1.0, 1e-5);
   EXPECT_NEAR(i.trans[2], 2.5, 1e-5);
-  EXPECT_NEAR(i.quat[0], std::cos(M_PI / 4), 1e-5);  // w
-  EXPECT_NEAR(i.quat[3], std::sin(M_PI / 4), 1e-5);  // z
+  EXPECT_NEAR(i.quat[0], std::cos(EIGEN_PI / 4), 1e-5);  // w
+  EXPECT_NEAR(i.quat[3], std::sin(EIGEN_PI / 4), 1e-5);  // z
   EXPECT_NEAR(i.centroid[1], 1.0, 1e-5);
   EXPECT_EQ(i.votes, 9);
   EXPECT_EQ(i.model, 0);
