@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
 
-.PHONY: all deps configure build demo test bench bench-daemon eval-xcap eval-xcap-ppf clean
+.PHONY: all deps configure build demo test bench bench-stages bench-daemon eval-xcap eval-xcap-ppf clean
 
 all: build
 
@@ -28,6 +28,10 @@ test: build
 # Speed on the real milk scene (needs ../shared/data); see docs/BENCHMARKS.md.
 bench: build
 	@./scripts/bench.sh $(BUILD_DIR)
+
+# Google Benchmark over the hot stages on the synthetic Kinect (no data needed).
+bench-stages: build
+	@OMP_WAIT_POLICY=passive $(BUILD_DIR)/tests/bench/saccade_stage_bench
 
 # saccaded against a 30 Hz virtual OpenNI2 camera; see docs/BENCHMARKS.md.
 bench-daemon: build

@@ -1,5 +1,6 @@
 #include "attention/attention.h"
 
+#include "core/check.h"
 #include "core/fail.h"
 
 #include <algorithm>
@@ -35,6 +36,7 @@ Eigen::Vector3f Attention::Target::PredictedAt(double time_s) const {
 
 Attention::Attention(const AttentionOptions& options, const Eigen::Vector3f& initial_fovea_m)
     : options_(options) {
+  SACCADE_CHECK_VALID(options);
   Reset(initial_fovea_m);
 }
 

@@ -1,5 +1,6 @@
 #include "core/foveation.h"
 
+#include "core/check.h"
 #include "core/fail.h"
 
 #include <algorithm>
@@ -93,6 +94,7 @@ std::optional<Box> BoundingBox(const Cloud& cloud) {
 
 FoveaGeometry ComputeFoveaGeometry(const FoveaOptions& o, const Box& scene_bounds,
                                    const Eigen::Vector3f& fovea_camera) {
+  SACCADE_CHECK_VALID(o);
   FoveaGeometry g;
   Eigen::Vector3f origin;
   if (o.outer_box_from_scene) {

@@ -2,6 +2,7 @@
 
 #include <pcl/features/normal_3d.h>
 #include <pcl/kdtree/kdtree_flann.h>
+#include "core/check.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -37,6 +38,7 @@ Eigen::Vector3f PcaNormal(const Eigen::Vector3f* points, int n, const Eigen::Vec
 }  // namespace
 
 PrincipalAxes ComputePrincipalAxes(const std::vector<Eigen::Vector3f>& points) {
+  SACCADE_CHECK(!points.empty(), "principal axes of no point");
   PrincipalAxes out;
   for (const auto& p : points) out.mean += p.cast<double>();
   out.mean /= double(points.size());

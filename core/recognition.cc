@@ -1,5 +1,6 @@
 #include "core/recognition.h"
 
+#include "core/check.h"
 #include "core/fail.h"
 #include "core/nearest_within.h"
 
@@ -32,6 +33,8 @@ std::size_t RecognitionStats::TotalKeypoints() const {
 RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
                             const SceneQuery& query, const RecognitionOptions& given,
                             const ParallelFor& parallel_for, std::string* error) {
+  SACCADE_CHECK_VALID(given);
+  SACCADE_CHECK_VALID(query.fovea);
   const RecognitionOptions options = RadiiForModel(given, model.scale());
   RecognitionResult result;
   auto& stats = result.stats;

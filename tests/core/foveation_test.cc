@@ -148,8 +148,13 @@ TEST(FoveationGrowth, TwoLevelsWork) {
   s.options.finest_level = 1;
   const FoveaGeometry g = ComputeFoveaGeometry(s.options, s.bounds, s.fovea);
   const FoveatedCloud fc = Foveate(s.cloud, s.options, g);
-  EXPECT_EQ(fc.NumLevels(), 2);
-  EXPECT_EQ(fc.LevelPointCount(0) + fc.LevelPointCount(1), fc.cloud.size());
+  ASSERT_EQ(fc.NumLevels(), 2);
+  // Both levels hold points, and each point sits in the level its position says (the counts
+  // summing to the cloud's size would hold by construction).
+  EXPECT_GT(fc.LevelPointCount(0), 0u);
+  EXPECT_GT(fc.LevelPointCount(1), 0u);
+  for (std::size_t j = 0; j < fc.cloud.size(); ++j)
+    EXPECT_EQ(LevelOf(g, fc.cloud[j].getVector3fMap()), fc.level[j]) << "point " << j;
 }
 
 TEST(FoveationGeometry, OuterBoxFromTheSceneCoversEveryPoint) {
@@ -216,6 +221,19 @@ TEST(FoveaOptions, InvalidParametersAreRejectedNamingTheField) {
   }
   std::string error;
   EXPECT_TRUE(FoveaOptions{}.IsValid(&error)) << error;
+}
+
+}  // namespace
+}  // namespace saccade
+
+namespace saccade {
+namespace {
+
+TEST(FoveationDeathTest, InvalidOptionsAreABugThatStopsWithTheReason) {
+  FoveaOptions o;
+  o.finest_level = 0;  // needs at least two levels
+  EXPECT_DEATH(ComputeFoveaGeometry(o, Box{}, Eigen::Vector3f(0, 0, 1)),
+               "precondition failed: o.IsValid\\(\\): .*finest_level");
 }
 
 }  // namespace

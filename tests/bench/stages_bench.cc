@@ -1,0 +1,73 @@
+// Google Benchmark over the hot stages of a frame, on the synthetic Kinect's demo case (a
+// 640x480 frame: the target among clutter, and a model cut from another capture). `make
+// bench-stages` runs it; `saccade bench` times the whole pipeline on real data
+// (docs/BENCHMARKS.md). A benchmark, not a test: nothing here asserts a time.
+#include "core/foveation.h"
+#include "core/recognition.h"
+#include "core/sim/scenario.h"
+
+#include <benchmark/benchmark.h>
+
+#include <optional>
+
+namespace saccade {
+namespace {
+
+// Built once: the scene, the model's description and the fovea on the target.
+struct Fixture {
+  Fixture() : demo(MakeDemoCase(/*seed=*/5)) {
+    std::string error;
+    model.emplace(*DescribeModel(demo.model, options, &error));
+    fovea_m = demo.truth * ShapeCentre(TargetShape());
+    query.fovea_m = fovea_m;
+    query.intrinsics = CameraIntrinsics{};
+  }
+  CrossCaptureCase demo;
+  RecognitionOptions options;
+  std::optional<ModelDescription> model;
+  Eigen::Vector3f fovea_m;
+  SceneQuery query;
+};
+
+const Fixture& Demo() {
+  static const Fixture fixture;
+  return fixture;
+}
+
+void BM_FoveateIndices(benchmark::State& state) {
+  const Fixture& f = Demo();
+  const Box bounds = *BoundingBox(f.demo.scene.cloud);
+  const FoveaGeometry g = ComputeFoveaGeometry(f.query.fovea, bounds, f.fovea_m);
+  const CameraIntrinsics k;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(FoveateIndices(f.demo.scene.cloud, f.query.fovea, g, 0, &k));
+}
+BENCHMARK(BM_FoveateIndices)->Unit(benchmark::kMillisecond);
+
+void BM_RecognizeFoveated(benchmark::State& state) {
+  const Fixture& f = Demo();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(Recognize(*f.model, f.demo.scene.cloud, f.query, f.options));
+}
+BENCHMARK(BM_RecognizeFoveated)->Unit(benchmark::kMillisecond);
+
+// The frame a lost target makes: G grown to 0.5 m on every axis.
+void BM_RecognizeGrownFovea(benchmark::State& state) {
+  const Fixture& f = Demo();
+  SceneQuery q = f.query;
+  q.fovea.growth_m = Eigen::Vector3f::Constant(0.5f);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(Recognize(*f.model, f.demo.scene.cloud, q, f.options));
+}
+BENCHMARK(BM_RecognizeGrownFovea)->Unit(benchmark::kMillisecond);
+
+void BM_DescribeModel(benchmark::State& state) {
+  const Fixture& f = Demo();
+  for (auto _ : state) benchmark::DoNotOptimize(DescribeModel(f.demo.model, f.options, nullptr));
+}
+BENCHMARK(BM_DescribeModel)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace saccade
+
+BENCHMARK_MAIN();
