@@ -51,5 +51,25 @@ TEST(VerifyInstances, OnTheSyntheticKinectKeepsTheTruePoseAndSaysWhyTheOthersWen
   EXPECT_EQ(verdicts[2], Verdict::kNoFit) << VerdictName(verdicts[2]);  // in front of the surface
 }
 
+TEST(InstanceConfidence, RisesWithEachFigureAndStaysAProbability) {
+  Detection d;
+  d.votes = 10, d.fitness = 0.9f, d.coverage = 0.7f, d.colour_agreement = 0.6f;
+  const float base = InstanceConfidence(d, 1.0f);
+  EXPECT_GT(base, 0.0f);
+  EXPECT_LT(base, 1.0f);
+  Detection more = d;
+  more.colour_agreement = 0.9f;
+  EXPECT_GT(InstanceConfidence(more, 1.0f), base);
+  more = d;
+  more.votes = 40;
+  EXPECT_GT(InstanceConfidence(more, 1.0f), base);
+  EXPECT_LT(InstanceConfidence(d, 0.5f), base);  // a weaker second instance of the frame
+  Detection grey = d;
+  grey.colour_agreement = -1;  // no colour measured: the model without colour answers
+  const float g = InstanceConfidence(grey, 1.0f);
+  EXPECT_GT(g, 0.0f);
+  EXPECT_LT(g, 1.0f);
+}
+
 }  // namespace
 }  // namespace saccade
