@@ -5,6 +5,7 @@
 #include "core/foveation.h"
 #include "core/recognition.h"
 #include "core/sim/scenario.h"
+#include "core/tracking.h"
 
 #include <benchmark/benchmark.h>
 
@@ -60,6 +61,16 @@ void BM_RecognizeGrownFovea(benchmark::State& state) {
     benchmark::DoNotOptimize(Recognize(*f.model, f.demo.scene.cloud, q, f.options));
 }
 BENCHMARK(BM_RecognizeGrownFovea)->Unit(benchmark::kMillisecond);
+
+// A frame of tracking: the true pose nudged 1 cm, refined against the frame.
+void BM_TrackPose(benchmark::State& state) {
+  const Fixture& f = Demo();
+  const Eigen::Matrix4f start = (Eigen::Translation3f(0.01f, 0, 0) * f.demo.truth).matrix();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(TrackPose(f.model->verification(), f.demo.scene.cloud,
+                                       CameraIntrinsics{}, start, TrackOptions{}));
+}
+BENCHMARK(BM_TrackPose)->Unit(benchmark::kMillisecond);
 
 void BM_DescribeModel(benchmark::State& state) {
   const Fixture& f = Demo();

@@ -6,6 +6,7 @@
 #include "core/recognition.h"
 #include "core/saliency.h"
 #include "core/sim/scenario.h"
+#include "core/tracking.h"
 
 #include <gtest/gtest.h>
 
@@ -81,6 +82,7 @@ TEST(Schema, EqualitySeesEveryFieldTheSchemaNames) {
   ExpectEveryFieldCounts<SaliencyOptions>("saliency");
   ExpectEveryFieldCounts<KinectNoise>("noise");
   ExpectEveryFieldCounts<Trajectory>("trajectory");
+  ExpectEveryFieldCounts<TrackOptions>("tracking");
 }
 
 TEST(Schema, OperatorsAgreeWithSameFields) {

@@ -1,0 +1,133 @@
+#include "core/tracking.h"
+
+#include "core/check.h"
+#include "core/fail.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <optional>
+
+namespace saccade {
+namespace {
+
+// The point seen at pixel (u, v) and the frame's normal there (from the points `step` pixels
+// around it, turned towards the camera); nullopt where the pixel or its neighbours have no
+// depth.
+struct Seen {
+  Eigen::Vector3f point;
+  Eigen::Vector3f normal;
+};
+std::optional<Seen> SeenAt(const Cloud& frame, int u, int v, int step) {
+  const int w = static_cast<int>(frame.width), h = static_cast<int>(frame.height);
+  if (u - step < 0 || v - step < 0 || u + step >= w || v + step >= h) return std::nullopt;
+  const auto at = [&](int x, int y) { return frame.at(x, y).getVector3fMap(); };
+  const Eigen::Vector3f p = at(u, v), l = at(u - step, v), r = at(u + step, v), t = at(u, v - step),
+                        b = at(u, v + step);
+  if (!p.allFinite() || !l.allFinite() || !r.allFinite() || !t.allFinite() || !b.allFinite())
+    return std::nullopt;
+  Eigen::Vector3f n = (r - l).cross(b - t);
+  const float norm = n.norm();
+  if (!(norm > 0)) return std::nullopt;
+  n /= norm;
+  if (n.dot(p) > 0) n = -n;  // towards the camera at the origin
+  return Seen{p, n};
+}
+
+// Where a model point lands: the pixel and what is seen there, or nullopt when it faces away,
+// falls outside the image or meets no depth.
+struct Pair {
+  Eigen::Vector3f p;  // the model point in the camera frame
+  Seen seen;
+};
+
+}  // namespace
+
+bool TrackOptions::IsValid(std::string* error) const {
+  if (iterations < 1) return Fail(error, "iterations must be >= 1");
+  if (!(max_distance_m > 0)) return Fail(error, "max_distance_m must be > 0");
+  if (!(inlier_distance_m > 0)) return Fail(error, "inlier_distance_m must be > 0");
+  if (!(free_space_margin_m > 0)) return Fail(error, "free_space_margin_m must be > 0");
+  if (!(min_fitness >= 0 && min_fitness <= 1)) return Fail(error, "min_fitness must be in [0, 1]");
+  if (!(min_coverage >= 0 && min_coverage <= 1))
+    return Fail(error, "min_coverage must be in [0, 1]");
+  if (normal_step_px < 1) return Fail(error, "normal_step_px must be >= 1");
+  return true;
+}
+
+TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const CameraIntrinsics& k,
+                      const Eigen::Matrix4f& predicted, const TrackOptions& o) {
+  SACCADE_CHECK_VALID(o);
+  SACCADE_CHECK(frame.height > 1 && static_cast<int>(frame.width) == k.width &&
+                    static_cast<int>(frame.height) == k.height,
+                "an organized frame of the intrinsics' size");
+  Eigen::Isometry3f X_CM(predicted);
+  // Each model point that faces the camera, paired with what its pixel sees.
+  const auto pair_of = [&](std::size_t i) -> std::optional<Pair> {
+    const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
+    const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
+    if (!(p.z() > 0.05f) || !n.allFinite() || n.dot(p) >= 0) return std::nullopt;
+    const Eigen::Vector2d uv = k.Project(p);
+    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+    const std::optional<Seen> seen = SeenAt(frame, u, v, o.normal_step_px);
+    if (!seen) return std::nullopt;
+    return Pair{p, *seen};
+  };
+
+  TrackResult result;
+  for (int it = 0; it < o.iterations; ++it) {
+    // Gauss-Newton on the point-to-plane residuals n . (p - q), small motion [w, t] applied on
+    // the left: p' = p + w x p + t.
+    Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> Jte = Eigen::Matrix<double, 6, 1>::Zero();
+    int used = 0;
+    for (std::size_t i = 0; i < model.points.size(); ++i) {
+      const std::optional<Pair> pr = pair_of(i);
+      if (!pr || (pr->p - pr->seen.point).norm() > o.max_distance_m) continue;
+      const Eigen::Vector3d p = pr->p.cast<double>(), q = pr->seen.point.cast<double>(),
+                            n = pr->seen.normal.cast<double>();
+      Eigen::Matrix<double, 6, 1> J;
+      J << p.cross(n), n;
+      const double e = n.dot(p - q);
+      JtJ += J * J.transpose();
+      Jte += J * e;
+      ++used;
+    }
+    result.iterations = it + 1;
+    if (used < 6) break;
+    const Eigen::Matrix<double, 6, 1> x = JtJ.ldlt().solve(-Jte);
+    if (!x.allFinite()) break;
+    const Eigen::Vector3d w = x.head<3>();
+    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+    if (w.norm() > 0) step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).matrix();
+    step.translation() = x.tail<3>();
+    X_CM = Eigen::Isometry3f((step * X_CM.cast<double>()).cast<float>().matrix());
+    if (x.head<3>().norm() < 1e-5 && x.tail<3>().norm() < 1e-5) break;  // converged
+  }
+
+  // The score at the refined pose.
+  double sq = 0;
+  for (std::size_t i = 0; i < model.points.size(); ++i) {
+    const std::optional<Pair> pr = pair_of(i);
+    if (!pr) continue;
+    ++result.facing;
+    const float distance = (pr->p - pr->seen.point).norm();
+    if (distance <= o.inlier_distance_m) {
+      ++result.inliers;
+      const double e = pr->seen.normal.dot(pr->p - pr->seen.point);
+      sq += e * e;
+    } else if (pr->p.z() <= pr->seen.point.z() - o.free_space_margin_m) {
+      ++result.free_space;
+    }
+  }
+  result.model_to_camera = X_CM.matrix();
+  if (result.inliers + result.free_space > 0)
+    result.fitness = float(result.inliers) / float(result.inliers + result.free_space);
+  if (result.facing > 0) result.coverage = float(result.inliers) / float(result.facing);
+  if (result.inliers > 0) result.rms_m = float(std::sqrt(sq / result.inliers));
+  result.tracking = result.fitness >= o.min_fitness && result.coverage >= o.min_coverage;
+  return result;
+}
+
+}  // namespace saccade

@@ -1,0 +1,78 @@
+// Frame-to-frame tracking on the synthetic Kinect's demo case: from seeded perturbed poses the
+// refinement converges onto the true one; a pose with no object under it is not TRACKING.
+#include "core/tracking.h"
+
+#include "core/recognition.h"
+#include "core/sim/scenario.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace saccade {
+namespace {
+
+struct Demo {
+  Demo() : demo(MakeDemoCase(/*seed=*/5)) {
+    std::string error;
+    model.emplace(*DescribeModel(demo.model, RecognitionOptions{}, &error));
+  }
+  CrossCaptureCase demo;
+  std::optional<ModelDescription> model;
+};
+
+const Demo& TheDemo() {
+  static const Demo d;
+  return d;
+}
+
+TEST(TrackPose, ConvergesOntoTheTruePoseFromSeededPerturbations) {
+  const Demo& d = TheDemo();
+  const Eigen::Vector3f c = d.model->centroid();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> offset(-0.015f, 0.015f), angle(-4.0f, 4.0f);
+  std::normal_distribution<float> axis(0, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::Vector3f t(offset(rng), offset(rng), offset(rng));
+    const Eigen::Vector3f a = Eigen::Vector3f(axis(rng), axis(rng), axis(rng)).normalized();
+    const float deg = angle(rng);
+    // The truth turned about the object's centroid and moved: up to 1.5 cm and 4 degrees off.
+    const Eigen::Vector3f centre_C = d.demo.truth * c;
+    const Eigen::Isometry3f perturb = Eigen::Translation3f(centre_C + t) *
+                                      Eigen::AngleAxisf(deg * float(EIGEN_PI) / 180, a) *
+                                      Eigen::Translation3f(-centre_C);
+    const Eigen::Matrix4f start = (perturb * d.demo.truth).matrix();
+    const TrackResult r =
+        TrackPose(d.model->verification(), d.demo.scene.cloud, CameraIntrinsics{}, start, {});
+    const PoseError e = ComparePoses(r.model_to_camera, d.demo.truth.matrix(), c);
+    EXPECT_LT(e.translation_m, 0.003) << "trial " << trial;
+    EXPECT_LT(e.rotation_deg, 1.5) << "trial " << trial;
+    EXPECT_TRUE(r.tracking) << "trial " << trial << " fitness " << r.fitness << " coverage "
+                            << r.coverage;
+    EXPECT_LT(r.rms_m, 0.004f);
+  }
+}
+
+TEST(TrackPose, APoseWithNoObjectUnderItIsNotTracking) {
+  const Demo& d = TheDemo();
+  for (const Eigen::Vector3f& away :
+       {Eigen::Vector3f(0.4f, 0, 0), Eigen::Vector3f(-0.4f, 0, 0), Eigen::Vector3f(0, 0, -0.25f)}) {
+    const Eigen::Matrix4f start = (Eigen::Translation3f(away) * d.demo.truth).matrix();
+    const TrackResult r =
+        TrackPose(d.model->verification(), d.demo.scene.cloud, CameraIntrinsics{}, start, {});
+    EXPECT_FALSE(r.tracking) << away.transpose() << ": fitness " << r.fitness << " coverage "
+                             << r.coverage;
+  }
+}
+
+TEST(TrackOptions, InvalidValuesNameTheField) {
+  TrackOptions o;
+  o.min_fitness = 2;
+  std::string error;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("min_fitness"), std::string::npos) << error;
+  EXPECT_TRUE(TrackOptions{}.IsValid(&error));
+}
+
+}  // namespace
+}  // namespace saccade
