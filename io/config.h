@@ -4,8 +4,8 @@
 
 #include "core/foveation.h"
 #include "core/recognition.h"
-#include "core/sim/scenario.h"
 #include "core/schema.h"
+#include "core/sim/scenario.h"
 
 #include <functional>
 #include <map>

@@ -1,7 +1,7 @@
 // Frame sources: spec parsing, the synthetic scenarios and their ground truth, PCD and depth
 // sequences written by FrameWriter and read back, the live mailbox, and bad input.
-#include "core/sim/scenario.h"
 #include "io/frame_source.h"
+#include "core/sim/scenario.h"
 
 #include "io/frame_writer.h"
 #include "io/images.h"
