@@ -1,0 +1,59 @@
+#include "core/sim/rerender.h"
+
+#include "core/check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace saccade {
+
+Cloud RerenderCapture(const Cloud& world, const CameraIntrinsics& k, const RerenderPose& pose,
+                      std::vector<std::uint8_t>* labels) {
+  SACCADE_CHECK(world.height > 1, "an organized capture");
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  Cloud out(static_cast<std::uint32_t>(k.width), static_cast<std::uint32_t>(k.height));
+  out.is_dense = false;
+  for (PointT& p : out.points) {
+    p.x = p.y = p.z = nan;
+    p.r = p.g = p.b = 0;
+    p.a = 255;
+  }
+  std::vector<float> depth(out.size(), std::numeric_limits<float>::infinity());
+  if (labels) labels->assign(out.size(), 0);
+  std::vector<std::uint8_t> moving(world.size(), 0);
+  for (int i : pose.object)
+    if (i >= 0 && static_cast<std::size_t>(i) < world.size())
+      moving[static_cast<std::size_t>(i)] = 1;
+  const Eigen::Isometry3f X_CW = pose.X_WC.inverse();
+  const Eigen::Isometry3f X_CW_moved = X_CW * pose.object_motion_W;
+  for (std::size_t i = 0; i < world.size(); ++i) {
+    const PointT& w = world[i];
+    if (!FinitePoint(w) || !(w.z > 0)) continue;
+    const Eigen::Vector3f p = (moving[i] ? X_CW_moved : X_CW) * w.getVector3fMap();
+    if (!(p.z() > 0.05f)) continue;
+    const Eigen::Vector2d uv = k.Project(p);
+    // The capture's pixel at depth w.z covers (w.z / p.z) pixels at the new depth: one pixel
+    // at the captured depth or farther, a (2r+1)-pixel square when the camera came nearer.
+    const int r = static_cast<int>(std::lround(0.5 * std::max(1.0, double(w.z) / p.z()) - 0.5));
+    const int cu = static_cast<int>(std::lround(uv.x())),
+              cv = static_cast<int>(std::lround(uv.y()));
+    const int u0 = std::max(0, cu - r), u1 = std::min(k.width - 1, cu + r);
+    const int v0 = std::max(0, cv - r), v1 = std::min(k.height - 1, cv + r);
+    for (int v = v0; v <= v1; ++v)
+      for (int u = u0; u <= u1; ++u) {
+        const std::size_t j = static_cast<std::size_t>(v) * k.width + u;
+        if (p.z() >= depth[j]) continue;
+        depth[j] = p.z();
+        PointT& o = out[j];
+        // The pixel's own ray at the splatted point's depth: a splat is a patch facing the
+        // camera, as a depth sensor would report it.
+        o.getVector3fMap() = k.Unproject(u, v, p.z());
+        o.r = w.r, o.g = w.g, o.b = w.b, o.a = w.a;
+        if (labels) (*labels)[j] = moving[i];
+      }
+  }
+  return out;
+}
+
+}  // namespace saccade
