@@ -220,6 +220,15 @@ bool LoadScenario(const std::string& path, Scenario* scenario, std::string* erro
   return true;
 }
 
+bool LoadCaptureSequence(const std::string& path, CaptureSequence* sequence, std::string* error) {
+  CaptureSequence s = *sequence;
+  if (!ApplyConfigFile(path, SchemaOf(&s), error)) return false;
+  std::string why;
+  if (!s.IsValid(&why)) return Fail(error, path + ": " + why);
+  *sequence = s;
+  return true;
+}
+
 ConfigKeys& ConfigKeys::Add(const std::string& key, Setter setter) {
   setters[key] = std::move(setter);
   return *this;

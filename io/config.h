@@ -5,6 +5,7 @@
 #include "core/foveation.h"
 #include "core/recognition.h"
 #include "core/schema.h"
+#include "core/sim/rerender.h"
 #include "core/sim/scenario.h"
 
 #include <functional>
@@ -181,5 +182,10 @@ bool LoadLabelledCases(const std::string& path, const std::string& data_dir,
 /// {kind: box, half_size_m: [x, y, z], xz_m: [x, z], yaw_rad} or {kind: sphere, radius_m,
 /// xz_m}). Strict as LoadRecognitionConfig.
 bool LoadScenario(const std::string& path, Scenario* scenario, std::string* error);
+
+/// A real-capture sequence file (core/sim/rerender.h, CaptureSequence's keys): capture, object,
+/// frames, rate_hz, and the sections camera_motion / object_motion (Trajectory fields). Strict
+/// as LoadRecognitionConfig.
+bool LoadCaptureSequence(const std::string& path, CaptureSequence* sequence, std::string* error);
 
 }  // namespace saccade

@@ -267,6 +267,31 @@ class ScenarioSequence : public Sequence {
   CameraIntrinsics k_;
 };
 
+// A real capture seen again from a moving virtual camera, its object moving (capture:FILE.yaml).
+class CaptureFrames : public Sequence {
+ public:
+  CaptureFrames(CaptureSequence s, LoadedCapture capture)
+      : s_(std::move(s)), capture_(std::move(capture)) {}
+  std::size_t size() const override { return static_cast<std::size_t>(s_.frames); }
+  bool Read(std::size_t i, Frame* frame, std::string*) const override {
+    CaptureFrame f = RenderCaptureFrame(s_, capture_, static_cast<int>(i));
+    frame->intrinsics = capture_.intrinsics;
+    frame->cloud = std::make_shared<const Cloud>(std::move(f.cloud));
+    frame->capture_utime = static_cast<std::int64_t>(std::llround(f.time_s * 1e6));
+    frame->truth = f.truth;
+    return true;
+  }
+  double clock_hz() const override { return s_.rate_hz; }
+  std::string Describe() const override {
+    return "capture:" + s_.name + " (" + s_.capture + ", object " + std::to_string(s_.object) +
+           ", " + std::to_string(s_.frames) + " frames)";
+  }
+
+ private:
+  CaptureSequence s_;
+  LoadedCapture capture_;
+};
+
 // Typed option readers: false with an error naming the spec and the option.
 bool OptionNumber(const SourceSpec& spec, const std::string& key, double fallback, double* out,
                   std::string* error) {
@@ -384,6 +409,50 @@ std::unique_ptr<FrameSource> OpenSynthetic(const SourceSpec& spec, std::string* 
   return std::make_unique<SequenceSource>(std::make_unique<ScenarioSequence>(scenario), rate, loop);
 }
 
+// capture:FILE.yaml[?data=DIR&frames=N&rate=HZ&loop=0|1]: a CaptureSequence file; its capture
+// is resolved against DIR (default ../shared/data) unless absolute.
+std::unique_ptr<FrameSource> OpenCapture(const SourceSpec& spec, std::string* error) {
+  if (!OnlyOptions(spec, {"rate", "loop", "frames", "data"}, error)) return nullptr;
+  CaptureSequence s;
+  s.name = fs::path(spec.target).stem().string();
+  if (!LoadCaptureSequence(spec.target, &s, error)) return nullptr;
+  double rate = s.rate_hz, frames = s.frames;
+  bool loop = false;
+  if (!OptionNumber(spec, "rate", s.rate_hz, &rate, error) ||
+      !OptionNumber(spec, "frames", s.frames, &frames, error) ||
+      !OptionBool(spec, "loop", &loop, error))
+    return nullptr;
+  if (frames < 1 || frames != std::floor(frames)) {
+    Fail(error, "source 'capture:" + spec.target + "': frames must be a whole number >= 1");
+    return nullptr;
+  }
+  s.frames = static_cast<int>(frames);
+  if (rate > 0) s.rate_hz = rate;
+  const auto data = spec.options.find("data");
+  const std::string dir = data != spec.options.end() ? data->second : "../shared/data";
+  const std::string file = s.capture[0] == '/' ? s.capture : dir + "/" + s.capture;
+  std::optional<LabelledCloud> labelled = LoadLabelledCloud(file, error);
+  if (!labelled) return nullptr;
+  LoadedCapture capture;
+  const auto k = EstimateIntrinsics(labelled->cloud);
+  if (!k) {
+    Fail(error, file + ": not an organized capture (no intrinsics can be estimated)");
+    return nullptr;
+  }
+  capture.intrinsics = *k;
+  capture.object = MosdObjectPoints(labelled->cloud, labelled->labels, s.object);
+  if (capture.object.empty()) {
+    Fail(error, file + ": no object " + std::to_string(s.object) + " (labels " +
+                    std::to_string(10 * s.object) + "-" + std::to_string(10 * s.object + 9) + ")");
+    return nullptr;
+  }
+  for (int i : capture.object) capture.object_centroid += labelled->cloud[i].getVector3fMap();
+  capture.object_centroid /= static_cast<float>(capture.object.size());
+  capture.cloud = std::move(labelled->cloud);
+  return std::make_unique<SequenceSource>(
+      std::make_unique<CaptureFrames>(std::move(s), std::move(capture)), rate, loop);
+}
+
 }  // namespace
 
 std::optional<SourceSpec> ParseSourceSpec(const std::string& text, std::string* error) {
@@ -407,9 +476,10 @@ std::optional<SourceSpec> ParseSourceSpec(const std::string& text, std::string* 
     }
     spec.kind = body.substr(0, colon);
     spec.target = body.substr(colon + 1);
-    if (spec.kind != "pcd" && spec.kind != "depth" && spec.kind != "synthetic") {
+    if (spec.kind != "pcd" && spec.kind != "depth" && spec.kind != "synthetic" &&
+        spec.kind != "capture") {
       Fail(error, "source '" + text + "': unknown kind '" + spec.kind +
-                      "' (openni2://, .oni, pcd:, depth:, synthetic:)");
+                      "' (openni2://, .oni, pcd:, depth:, synthetic:, capture:)");
       return std::nullopt;
     }
   }
@@ -433,6 +503,7 @@ std::unique_ptr<FrameSource> OpenSource(const std::string& text, std::string* er
   if (!spec) return nullptr;
   if (spec->kind == "pcd" || spec->kind == "depth") return OpenFiles(*spec, error);
   if (spec->kind == "synthetic") return OpenSynthetic(*spec, error);
+  if (spec->kind == "capture") return OpenCapture(*spec, error);
   if (spec->kind == "oni") {
     if (!OnlyOptions(*spec, {"mode", "loop"}, error)) return nullptr;
     OniPlaybackOptions o;

@@ -48,6 +48,9 @@ class FrameSource {
 ///                          intrinsics=FILE; rate=HZ, loop=0|1
 ///   synthetic:NAME         a preset (see ScenarioPresetNames) or a scenario YAML file;
 ///                          frames=N, seed=S, rate=HZ (0: as fast as rendered), loop=0|1
+///   capture:FILE.yaml      a real labelled capture seen again from a moving virtual camera,
+///                          one object moving (core/sim/rerender.h); data=DIR (where the
+///                          capture is, default ../shared/data), frames=N, rate=HZ, loop=0|1
 /// A source with rate > 0 is live: it runs at that rate on its own thread into a latest-frame
 /// mailbox and counts what its consumer did not take in time. nullptr with one line in
 /// `error` when the spec is malformed or the source cannot be opened.
@@ -55,7 +58,7 @@ std::unique_ptr<FrameSource> OpenSource(const std::string& spec, std::string* er
 
 /// A spec split into its kind, its target and its options.
 struct SourceSpec {
-  std::string kind;    // "openni2", "oni", "pcd", "depth", "synthetic"
+  std::string kind;    // "openni2", "oni", "pcd", "depth", "synthetic", "capture"
   std::string target;  // device, path or scenario name
   std::map<std::string, std::string> options;
 };

@@ -1,6 +1,7 @@
 #include "core/sim/rerender.h"
 
 #include "core/check.h"
+#include "core/fail.h"
 
 #include <algorithm>
 #include <cmath>
@@ -54,6 +55,60 @@ Cloud RerenderCapture(const Cloud& world, const CameraIntrinsics& k, const Reren
       }
   }
   return out;
+}
+
+namespace {
+
+// A Trajectory's pose at t: a position on the x-z plane and a yaw about y.
+Eigen::Isometry3f PlanarPose(const Trajectory& motion, double t) {
+  const Eigen::Vector2f xz = motion.PositionAt(t);
+  Eigen::Isometry3f X = Eigen::Isometry3f::Identity();
+  X.linear() = Eigen::AngleAxisf(motion.YawAt(t), Eigen::Vector3f::UnitY()).toRotationMatrix();
+  X.translation() = Eigen::Vector3f(xz.x(), 0.0f, xz.y());
+  return X;
+}
+
+}  // namespace
+
+bool CaptureSequence::IsValid(std::string* error) const {
+  if (capture.empty()) return Fail(error, "capture: a labelled PCD file is required");
+  if (object < 1) return Fail(error, "object must be >= 1");
+  if (frames < 1) return Fail(error, "frames must be >= 1");
+  if (!(rate_hz > 0) || !std::isfinite(rate_hz)) return Fail(error, "rate_hz must be > 0");
+  for (const Trajectory* m : {&camera_motion, &object_motion})
+    if (!(m->period_s > 0)) return Fail(error, "trajectory period_s must be > 0");
+  return true;
+}
+
+std::vector<int> MosdObjectPoints(const Cloud& cloud, const std::vector<std::uint32_t>& labels,
+                                  int object) {
+  std::vector<int> out;
+  for (std::size_t i = 0; i < labels.size() && i < cloud.size(); ++i)
+    if (labels[i] >= 10 && static_cast<int>(labels[i] / 10) == object && FinitePoint(cloud[i]))
+      out.push_back(static_cast<int>(i));
+  return out;
+}
+
+CaptureFrame RenderCaptureFrame(const CaptureSequence& sequence, const LoadedCapture& capture,
+                                int index) {
+  CaptureFrame f;
+  f.time_s = index / sequence.rate_hz;
+  RerenderPose pose;
+  pose.X_WC = PlanarPose(sequence.camera_motion, f.time_s);
+  pose.object = capture.object;
+  const Eigen::Vector3f& c = capture.object_centroid;
+  pose.object_motion_W = Eigen::Translation3f(c) * PlanarPose(sequence.object_motion, f.time_s) *
+                         Eigen::Translation3f(-c);
+  std::vector<std::uint8_t> labels;
+  f.cloud = RerenderCapture(capture.cloud, capture.intrinsics, pose, &labels);
+  const Eigen::Isometry3f X_CO = pose.X_WC.inverse() * pose.object_motion_W;
+  f.truth.target_pose = X_CO;
+  f.truth.centroid_m = X_CO * c;
+  std::size_t seen = 0;
+  for (std::uint8_t l : labels) seen += l;
+  f.truth.visible_fraction =
+      capture.object.empty() ? 0.0f : std::min(1.0f, float(seen) / float(capture.object.size()));
+  return f;
 }
 
 }  // namespace saccade

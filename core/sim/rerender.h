@@ -5,10 +5,15 @@
 #pragma once
 
 #include "core/camera.h"
+#include "core/frame.h"
+#include "core/schema.h"
+#include "core/sim/scenario.h"
 #include "core/types.h"
 
 #include <Eigen/Geometry>
 
+#include <cstdint>
+#include <string>
 #include <vector>
 
 namespace saccade {
@@ -29,5 +34,54 @@ struct RerenderPose {
 /// pixel 1 where the object's points won and 0 elsewhere. Pixels nothing reaches are NaN.
 Cloud RerenderCapture(const Cloud& world, const CameraIntrinsics& k, const RerenderPose& pose,
                       std::vector<std::uint8_t>* labels = nullptr);
+
+/// A sequence made from one real capture: the virtual camera's motion and one labelled
+/// object's (both Trajectory: positions on the capture's x-z plane, yaw about its y axis; the
+/// object's about its captured centroid, its start_xz_m the displacement at t = 0).
+struct CaptureSequence {
+  std::string name;
+  std::string capture;  // a labelled PCD (mOSD), relative to the data folder
+  int object = 1;       // mOSD object k: labels 10k..10k+9
+  int frames = 90;
+  double rate_hz = 30.0;
+  Trajectory camera_motion;
+  Trajectory object_motion;
+
+  bool IsValid(std::string* error) const;
+  /// The keys of a capture sequence file (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("name", &name);
+    a->Visit("capture", &capture);
+    a->Visit("object", &object);
+    a->Visit("frames", &frames);
+    a->Visit("rate_hz", &rate_hz);
+    a->Section("camera_motion", &camera_motion);
+    a->Section("object_motion", &object_motion);
+  }
+};
+
+/// A capture loaded for re-rendering: its cloud, the object's point indices and centroid.
+struct LoadedCapture {
+  Cloud cloud;
+  CameraIntrinsics intrinsics;
+  std::vector<int> object;                                    // indices of the object's points
+  Eigen::Vector3f object_centroid = Eigen::Vector3f::Zero();  // capture frame
+};
+
+/// The indices of mOSD object k's finite points (labels 10k..10k+9) in a labelled capture.
+std::vector<int> MosdObjectPoints(const Cloud& cloud, const std::vector<std::uint32_t>& labels,
+                                  int object);
+
+/// Frame `index` of the sequence: the capture seen from the camera at that time, with the
+/// object moved, and the truth: X_CO of the object (O: the capture's camera frame, in which a
+/// model cut from the capture is expressed), its centroid and its visible share.
+struct CaptureFrame {
+  Cloud cloud;
+  GroundTruth truth;
+  double time_s = 0;
+};
+CaptureFrame RenderCaptureFrame(const CaptureSequence& sequence, const LoadedCapture& capture,
+                                int index);
 
 }  // namespace saccade

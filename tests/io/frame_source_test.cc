@@ -3,6 +3,7 @@
 #include "io/frame_source.h"
 #include "core/sim/scenario.h"
 
+#include "io/cloud_io.h"
 #include "io/frame_writer.h"
 #include "io/images.h"
 #include "io/mailbox.h"
@@ -284,6 +285,56 @@ TEST(FileSources, RealKinectTiffDepthMatchesItsPcd) {
     EXPECT_NE((*depth[f].cloud)[320 * 640 + 320].r + (*depth[f].cloud)[320 * 640 + 320].g, 0)
         << "colour from the _rgb.tiff partner";
   }
+}
+
+// A real capture re-rendered (capture:FILE.yaml): at t = 0 with nothing moving it is the
+// capture itself with the identity as the object's pose; as the camera moves, the truth is the
+// camera's motion undone, and the object's points are where that pose puts them.
+TEST(CaptureSource, RendersARealCaptureFromAMovingCameraWithExactTruth) {
+  SACCADE_REQUIRE_DATA("mosd_xcap/test/test31.pcd");
+  const std::string yaml = ::testing::TempDir() + "capture-seq.yaml";
+  std::ofstream(yaml) << "capture: mosd_xcap/test/test31.pcd\nobject: 3\nframes: 4\nrate_hz: 30\n"
+                         "camera_motion: {kind: linear, velocity_xz_mps: [0.3, 0.0]}\n";
+  std::string error;
+  auto source = OpenSource("capture:" + yaml + "?rate=0&data=" + testing::DataPath(""), &error);
+  ASSERT_TRUE(source) << error;
+  std::optional<LabelledCloud> capture =
+      LoadLabelledCloud(testing::DataPath("mosd_xcap/test/test31.pcd"), &error);
+  ASSERT_TRUE(capture) << error;
+  Frame first, last;
+  ASSERT_EQ(source->Next(&first, &error), FrameSource::Status::kFrame) << error;
+  for (int i = 1; i < 4; ++i) ASSERT_EQ(source->Next(&last, &error), FrameSource::Status::kFrame);
+  EXPECT_EQ(source->Next(&last, &error) == FrameSource::Status::kFrame, false);  // 4 frames
+  ASSERT_TRUE(first.truth && last.truth);
+  EXPECT_TRUE(first.truth->target_pose.isApprox(Eigen::Isometry3f::Identity()));
+  EXPECT_GT(first.truth->visible_fraction, 0.95f);
+  std::size_t same = 0, finite = 0;
+  for (std::size_t i = 0; i < first.cloud->size(); ++i) {
+    if (!FinitePoint(capture->cloud[i])) continue;
+    ++finite;
+    same +=
+        FinitePoint((*first.cloud)[i]) &&
+        ((*first.cloud)[i].getVector3fMap() - capture->cloud[i].getVector3fMap()).norm() < 1e-3f;
+  }
+  EXPECT_GT(same, finite * 99 / 100);
+  // Frame 3 at 30 Hz: the camera is 3 cm to the right, so the object sits 3 cm to its left.
+  const Eigen::Vector3f moved = last.truth->target_pose.translation();
+  EXPECT_NEAR(moved.x(), -0.03f, 1e-4f);
+  EXPECT_NEAR(moved.y(), 0.0f, 1e-5f);
+  EXPECT_NEAR(moved.z(), 0.0f, 1e-5f);
+  EXPECT_EQ(last.capture_utime, 100000);
+}
+
+TEST(CaptureSource, AMissingObjectIsOneErrorNamingTheFile) {
+  SACCADE_REQUIRE_DATA("mosd_xcap/test/test31.pcd");
+  const std::string yaml = ::testing::TempDir() + "capture-missing.yaml";
+  std::ofstream(yaml) << "capture: mosd_xcap/test/test31.pcd\nobject: 99\n";
+  std::string error;
+  EXPECT_FALSE(OpenSource("capture:" + yaml + "?data=" + testing::DataPath(""), &error));
+  EXPECT_NE(error.find("test31.pcd: no object 99"), std::string::npos) << error;
+  std::ofstream(yaml) << "capture: x.pcd\nobjekt: 1\n";
+  EXPECT_FALSE(OpenSource("capture:" + yaml, &error));
+  EXPECT_NE(error.find("key 'objekt': unknown key"), std::string::npos) << error;
 }
 
 }  // namespace
