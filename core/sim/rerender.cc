@@ -68,6 +68,38 @@ Eigen::Isometry3f PlanarPose(const Trajectory& motion, double t) {
   return X;
 }
 
+// The board of an occluded frame: facing the camera, centred on its line of sight to `target`
+// (camera frame), occluder_distance_m nearer than it; pixels where it is nearer than what was
+// rendered see the board (grey), and lose the object's label.
+void PlaceOccluder(const CaptureSequence& s, const CameraIntrinsics& k,
+                   const Eigen::Vector3f& target, Cloud* cloud, std::vector<std::uint8_t>* labels) {
+  const float distance = target.norm();
+  if (!(distance > s.occluder_distance_m + 0.05f)) return;
+  const Eigen::Vector3f axis = target / distance;
+  const Eigen::Vector3f centre = axis * (distance - s.occluder_distance_m);
+  // The board's axes: horizontal (perpendicular to the line of sight and the camera's y) and
+  // vertical.
+  const Eigen::Vector3f across = Eigen::Vector3f::UnitY().cross(axis).normalized();
+  const Eigen::Vector3f up = axis.cross(across);
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u) {
+      const Eigen::Vector3f ray = k.Unproject(u, v, 1.0).normalized();
+      const float along = ray.dot(axis);
+      if (!(along > 1e-3f)) continue;
+      const Eigen::Vector3f hit = ray * (centre.dot(axis) / along);  // on the board's plane
+      const Eigen::Vector3f d = hit - centre;
+      if (std::abs(d.dot(across)) > s.occluder_size_m.x() / 2 ||
+          std::abs(d.dot(up)) > s.occluder_size_m.y() / 2)
+        continue;
+      const std::size_t j = static_cast<std::size_t>(v) * k.width + u;
+      PointT& p = (*cloud)[j];
+      if (FinitePoint(p) && p.z <= hit.z()) continue;
+      p.getVector3fMap() = k.Unproject(u, v, hit.z());
+      p.r = p.g = p.b = 128;
+      (*labels)[j] = 0;
+    }
+}
+
 }  // namespace
 
 bool CaptureSequence::IsValid(std::string* error) const {
@@ -75,6 +107,9 @@ bool CaptureSequence::IsValid(std::string* error) const {
   if (object < 1) return Fail(error, "object must be >= 1");
   if (frames < 1) return Fail(error, "frames must be >= 1");
   if (!(rate_hz > 0) || !std::isfinite(rate_hz)) return Fail(error, "rate_hz must be > 0");
+  if (occluded_frames < 0) return Fail(error, "occluded_frames must be >= 0");
+  if (!((occluder_size_m.array() > 0).all())) return Fail(error, "occluder_size_m must be > 0");
+  if (!(occluder_distance_m > 0)) return Fail(error, "occluder_distance_m must be > 0");
   for (const Trajectory* m : {&camera_motion, &object_motion})
     if (!(m->period_s > 0)) return Fail(error, "trajectory period_s must be > 0");
   return true;
@@ -104,6 +139,8 @@ CaptureFrame RenderCaptureFrame(const CaptureSequence& sequence, const LoadedCap
   const Eigen::Isometry3f X_CO = pose.X_WC.inverse() * pose.object_motion_W;
   f.truth.target_pose = X_CO;
   f.truth.centroid_m = X_CO * c;
+  if (index >= sequence.occluded_from && index < sequence.occluded_from + sequence.occluded_frames)
+    PlaceOccluder(sequence, capture.intrinsics, f.truth.centroid_m, &f.cloud, &labels);
   std::size_t seen = 0;
   for (std::uint8_t l : labels) seen += l;
   f.truth.visible_fraction =

@@ -46,6 +46,13 @@ struct CaptureSequence {
   double rate_hz = 30.0;
   Trajectory camera_motion;
   Trajectory object_motion;
+  /// Frames [occluded_from, occluded_from + occluded_frames) have a board (occluder_size_m,
+  /// width x height, facing the camera) occluder_distance_m in front of the object's centroid
+  /// on the camera's line of sight to it: the object is hidden, the board is what is seen.
+  int occluded_from = -1;
+  int occluded_frames = 0;
+  Eigen::Vector2f occluder_size_m{0.3f, 0.3f};
+  float occluder_distance_m = 0.15f;
 
   bool IsValid(std::string* error) const;
   /// The keys of a capture sequence file (core/schema.h).
@@ -56,6 +63,10 @@ struct CaptureSequence {
     a->Visit("object", &object);
     a->Visit("frames", &frames);
     a->Visit("rate_hz", &rate_hz);
+    a->Visit("occluded_from", &occluded_from);
+    a->Visit("occluded_frames", &occluded_frames);
+    a->Visit("occluder_size_m", &occluder_size_m);
+    a->Visit("occluder_distance_m", &occluder_distance_m);
     a->Section("camera_motion", &camera_motion);
     a->Section("object_motion", &object_motion);
   }

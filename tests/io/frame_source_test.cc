@@ -325,6 +325,31 @@ TEST(CaptureSource, RendersARealCaptureFromAMovingCameraWithExactTruth) {
   EXPECT_EQ(last.capture_utime, 100000);
 }
 
+TEST(CaptureSource, AnOccluderHidesTheObjectForItsFramesOnly) {
+  SACCADE_REQUIRE_DATA("mosd_xcap/test/test31.pcd");
+  const std::string yaml = ::testing::TempDir() + "capture-occluded.yaml";
+  std::ofstream(yaml) << "capture: mosd_xcap/test/test31.pcd\nobject: 3\nframes: 3\n"
+                         "occluded_from: 1\noccluded_frames: 1\noccluder_size_m: [0.4, 0.4]\n";
+  std::string error;
+  auto source = OpenSource("capture:" + yaml + "?rate=0&data=" + testing::DataPath(""), &error);
+  ASSERT_TRUE(source) << error;
+  std::vector<float> visible;
+  Frame f;
+  while (source->Next(&f, &error) == FrameSource::Status::kFrame) {
+    visible.push_back(f.truth->visible_fraction);
+    if (visible.size() == 2) {  // the board is nearer than the object, at its centroid's pixel
+      const Eigen::Vector2d uv = f.intrinsics.Project(f.truth->centroid_m);
+      const PointT& p = f.cloud->at(int(std::lround(uv.x())), int(std::lround(uv.y())));
+      ASSERT_TRUE(FinitePoint(p));
+      EXPECT_NEAR(p.z, f.truth->centroid_m.norm() - 0.15f, 0.05f);
+    }
+  }
+  ASSERT_EQ(visible.size(), 3u);
+  EXPECT_GT(visible[0], 0.95f);
+  EXPECT_LT(visible[1], 0.05f);
+  EXPECT_GT(visible[2], 0.95f);
+}
+
 TEST(CaptureSource, AMissingObjectIsOneErrorNamingTheFile) {
   SACCADE_REQUIRE_DATA("mosd_xcap/test/test31.pcd");
   const std::string yaml = ::testing::TempDir() + "capture-missing.yaml";
