@@ -77,21 +77,18 @@ class SchemaArchive {
   ConfigKeys* keys_;  // where Visit and Choice add
 };
 
-/// The keys of one options struct, for a section of its own.
-template <typename Options>
-ConfigKeys KeysOf(Options* options) {
-  ConfigSchema schema;
-  SchemaArchive archive(&schema);
-  options->Serialize(&archive);
-  return schema.top;
-}
-/// The whole schema of a struct whose Serialize has sections.
+/// The whole schema of a struct whose Serialize may have sections.
 template <typename Options>
 ConfigSchema SchemaOf(Options* options) {
   ConfigSchema schema;
   SchemaArchive archive(&schema);
   options->Serialize(&archive);
   return schema;
+}
+/// The keys of one options struct, for a section of its own.
+template <typename Options>
+ConfigKeys KeysOf(Options* options) {
+  return SchemaOf(options).top;
 }
 
 /// Applies the file strictly: top-level keys from schema.top, mappings from schema.sections.

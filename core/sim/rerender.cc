@@ -59,15 +59,6 @@ Cloud RerenderCapture(const Cloud& world, const CameraIntrinsics& k, const Reren
 
 namespace {
 
-// A Trajectory's pose at t: a position on the x-z plane and a yaw about y.
-Eigen::Isometry3f PlanarPose(const Trajectory& motion, double t) {
-  const Eigen::Vector2f xz = motion.PositionAt(t);
-  Eigen::Isometry3f X = Eigen::Isometry3f::Identity();
-  X.linear() = Eigen::AngleAxisf(motion.YawAt(t), Eigen::Vector3f::UnitY()).toRotationMatrix();
-  X.translation() = Eigen::Vector3f(xz.x(), 0.0f, xz.y());
-  return X;
-}
-
 // The board of an occluded frame: facing the camera, centred on its line of sight to `target`
 // (camera frame), occluder_distance_m nearer than it; pixels where it is nearer than what was
 // rendered see the board (grey), and lose the object's label.

@@ -12,15 +12,6 @@ namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
 
-// X_WC: the camera at time t in the world frame (the camera frame at t = 0).
-Eigen::Isometry3f CameraPose(const Trajectory& motion, double t) {
-  const Eigen::Vector2f xz = motion.PositionAt(t);
-  Eigen::Isometry3f X = Eigen::Isometry3f::Identity();
-  X.linear() = Eigen::AngleAxisf(motion.YawAt(t), Eigen::Vector3f::UnitY()).toRotationMatrix();
-  X.translation() = Eigen::Vector3f(xz.x(), 0.0f, xz.y());
-  return X;
-}
-
 Shape ScreenShape() {  // a board, 30 cm wide and 40 cm tall, standing on the table
   return Shape{{Shape::Part::Box({0, 0, 0}, {0.15f, 0.2f, 0.01f})}};
 }
@@ -90,6 +81,14 @@ Eigen::Vector2f Trajectory::PositionAt(double t) const {
   return start_xz_m;
 }
 
+Eigen::Isometry3f PlanarPose(const Trajectory& motion, double t) {
+  const Eigen::Vector2f xz = motion.PositionAt(t);
+  Eigen::Isometry3f X = Eigen::Isometry3f::Identity();
+  X.linear() = Eigen::AngleAxisf(motion.YawAt(t), Eigen::Vector3f::UnitY()).toRotationMatrix();
+  X.translation() = Eigen::Vector3f(xz.x(), 0.0f, xz.y());
+  return X;
+}
+
 float Trajectory::YawAt(double t) const { return yaw_rad + yaw_rate_radps * static_cast<float>(t); }
 
 bool Scenario::IsValid(std::string* error) const {
@@ -118,7 +117,7 @@ Eigen::Vector3f ShapeCentre(const Shape& shape) {
 Eigen::Isometry3f ScenarioTargetPose(const Scenario& sc, int index) {
   const double t = index / sc.rate_hz;
   const Eigen::Vector2f xz = sc.target_motion.PositionAt(t);
-  return CameraPose(sc.camera_motion, t).inverse() *
+  return PlanarPose(sc.camera_motion, t).inverse() *
          PoseOnTable(xz.x(), xz.y(), sc.target_motion.YawAt(t), sc.table_height_m,
                      sc.target_bottom_y_m);
 }
@@ -126,7 +125,7 @@ Eigen::Isometry3f ScenarioTargetPose(const Scenario& sc, int index) {
 ScenarioFrame RenderScenarioFrame(const Scenario& sc, int index, const CameraIntrinsics& k) {
   ScenarioFrame out;
   out.time_s = index / sc.rate_hz;
-  const Eigen::Isometry3f X_CW = CameraPose(sc.camera_motion, out.time_s).inverse();
+  const Eigen::Isometry3f X_CW = PlanarPose(sc.camera_motion, out.time_s).inverse();
   const Eigen::Isometry3f X_CO = ScenarioTargetPose(sc, index);
   std::vector<SceneObject> objects = {{sc.target, X_CO, kTargetLabel}};
   std::size_t shown = sc.clutter.size();

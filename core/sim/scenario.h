@@ -91,6 +91,10 @@ struct ScenarioFrame {
   double time_s = 0.0;
 };
 
+/// A trajectory's pose at time t: its position on the x-z plane and its yaw about y (a
+/// scenario's camera X_WC, a capture sequence's camera or object motion).
+Eigen::Isometry3f PlanarPose(const Trajectory& motion, double t);
+
 /// The target's true pose X_CO in frame `index` (no rendering: cheap for checking a run).
 Eigen::Isometry3f ScenarioTargetPose(const Scenario& scenario, int index);
 

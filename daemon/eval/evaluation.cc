@@ -6,6 +6,7 @@
 #include "core/fail.h"
 #include "core/features.h"
 #include "core/segmentation.h"
+#include "core/sim/rerender.h"
 #include "io/cloud_io.h"
 
 #include <algorithm>
@@ -285,11 +286,7 @@ bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
   // The finite points of object k (mOSD labels 10k..10k+9), as a cloud; an error when none.
   const auto object = [&](const LabelledCase& c, const std::string& file, const Capture& capture,
                           int k) -> std::optional<Cloud> {
-    std::vector<int> points;
-    for (std::size_t i = 0; i < capture.labels.size(); ++i)
-      if (capture.labels[i] >= 10 && int(capture.labels[i] / 10) == k &&
-          (*capture.cloud)[i].getVector3fMap().allFinite())
-        points.push_back(int(i));
+    const std::vector<int> points = MosdObjectPoints(*capture.cloud, capture.labels, k);
     if (points.empty()) {
       Fail(error, path + ": case " + c.name + ": " + file + " has no object " + std::to_string(k));
       return std::nullopt;

@@ -4,6 +4,7 @@
 // coffee can of mOSD test31 within issue 16's real-data tolerance (2 cm, 5 degrees) on every
 // frame as the camera drifts, and as it circles at 0.5 m/s.
 #include "core/model.h"
+#include "core/sim/rerender.h"
 #include "core/tracking.h"
 #include "io/cloud_io.h"
 #include "io/frame_source.h"
@@ -25,9 +26,8 @@ TEST_P(CaptureTracking, FollowsTheObjectOnEveryFrameWithinTwoCentimetresAndFiveD
   ASSERT_TRUE(capture) << error;
   // The model: object 3's points, cut in the capture's frame (what `saccade segment` gives).
   Cloud model;
-  for (std::size_t i = 0; i < capture->labels.size(); ++i)
-    if (capture->labels[i] / 10 == 3 && FinitePoint(capture->cloud[i]))
-      model.push_back(capture->cloud[i]);
+  for (int i : MosdObjectPoints(capture->cloud, capture->labels, 3))
+    model.push_back(capture->cloud[std::size_t(i)]);
   const auto described = DescribeModel(model, RecognitionOptions{}, &error);
   ASSERT_TRUE(described) << error;
   const Eigen::Vector3f c = described->centroid();
