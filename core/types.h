@@ -44,6 +44,31 @@ struct Box {
   Eigen::Vector3f Size() const { return max - min; }
 };
 
+/// Where a tracked object stands in a frame (instance_t's track_state; attention/tracks.h).
+/// kNone: tracking is off and the instance is recognition's alone. kTracking: refined from the
+/// last frame and the frame supports it. kLost: this frame no longer supports it (published
+/// once, at the last pose). kSearching: lost for more than one frame, attention searching.
+/// kReacquired: recognition found it this frame (first found, after a loss, or a track that
+/// slid off its object put back).
+enum class TrackState { kNone = 0, kTracking = 1, kLost = 2, kSearching = 3, kReacquired = 4 };
+
+/// "NONE", "TRACKING", "LOST", "SEARCHING" or "RE-ACQUIRED".
+inline const char* TrackStateName(TrackState s) {
+  switch (s) {
+    case TrackState::kNone:
+      return "NONE";
+    case TrackState::kTracking:
+      return "TRACKING";
+    case TrackState::kLost:
+      return "LOST";
+    case TrackState::kSearching:
+      return "SEARCHING";
+    case TrackState::kReacquired:
+      return "RE-ACQUIRED";
+  }
+  return "?";
+}
+
 /// One recognized instance of the model in a scene.
 struct Detection {
   int model = -1;  // index of the model it is an instance of, among those searched
@@ -61,6 +86,9 @@ struct Detection {
   float confidence = -1;
   /// (model keypoint index, scene keypoint index) pairs behind this instance.
   std::vector<std::pair<int, int>> correspondences;
+  /// The track it belongs to (stable across frames, -1 when tracking is off) and its state.
+  int track_id = -1;
+  TrackState track_state = TrackState::kNone;
 };
 
 /// What one processed frame produced: every model's instances and how the frame was searched

@@ -37,9 +37,9 @@ bool DaemonSettings::IsValid(std::string* error) const {
     return Fail(error, std::string(section) + ": " + why);
   };
   return check("recognition", recognition) && check("fovea", fovea) &&
-         check("attention", attention) && check("saliency", saliency) &&
-         check("pipeline", pipeline) && check("lcm", bus) && check("robot_frame", bus.robot) &&
-         check("service", service);
+         check("attention", attention) && check("tracking", tracking) &&
+         check("saliency", saliency) && check("pipeline", pipeline) && check("lcm", bus) &&
+         check("robot_frame", bus.robot) && check("service", service);
 }
 
 bool LoadDaemonSettings(const std::string& path, DaemonSettings* settings, std::string* error) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "attention/attention.h"
+#include "attention/tracks.h"
 #include "core/foveation.h"
 #include "core/recognition.h"
 #include "core/saliency.h"
@@ -60,6 +61,7 @@ struct DaemonSettings {
   RecognitionOptions recognition;
   FoveaOptions fovea;  // growth_m is attention's to set: a file may not
   AttentionOptions attention;
+  TrackingOptions tracking;
   SaliencyOptions saliency;
   PipelineOptions pipeline;
   BusOptions bus;
@@ -76,6 +78,7 @@ struct DaemonSettings {
     a->Section("recognition", &recognition);
     a->Section("fovea", &fovea);
     a->Section("attention", &attention);
+    a->Section("tracking", &tracking);
     a->Section("saliency", &saliency);
     a->Section("pipeline", &pipeline);
     a->Section("lcm", &bus);

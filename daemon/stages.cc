@@ -69,6 +69,7 @@ std::shared_ptr<const RecognizeStage::Config> RecognizeStage::MakeConfig(const D
   c->recognition = s.recognition;
   c->fovea = s.fovea;
   c->saliency = s.saliency;
+  c->tracking = s.tracking;
   c->saccade_fallback = s.attention.fallback == LostFallback::kSaccade;
   c->predict_max_horizon_s = s.attention.predict ? s.attention.predict_max_horizon_s : 0.0f;
   c->models = std::move(models);
@@ -87,8 +88,8 @@ void RecognizeStage::SetConfig(std::shared_ptr<const Config> config) {
 
 void RecognizeStage::Process(Job* job) {
   const std::int64_t t0 = SteadyNowNs();
-  const std::shared_ptr<const Config> config = this->config();
-  const Config& c = *config;
+  job->config = this->config();
+  const Config& c = *job->config;
   const Frame& frame = job->frame;
   SceneQuery q;
   q.foveated = job->used.mode != AttentionMode::kFullScan;
@@ -96,13 +97,6 @@ void RecognizeStage::Process(Job* job) {
   q.fovea = c.fovea;
   q.fovea.growth_m = Eigen::Vector3f::Constant(job->used.growth_m);
   q.intrinsics = frame.intrinsics;
-  // Verification compares colour only when both sides have it: say once when they differ.
-  if (!colour_checked_.exchange(true) && !HasColour(*frame.cloud))
-    for (const auto& model : c.models)
-      if (model->description.verification().coloured)
-        Log(LogLevel::kWarning, "model '" + model->name +
-                                    "' has colour but the frames do not: verification runs on "
-                                    "geometry alone (docs/RESULTS.md measures both)");
   FrameDetections& out = job->detections;
   out.seq = static_cast<std::int64_t>(frame.sequence);
   out.capture_utime = frame.capture_utime;
@@ -110,10 +104,18 @@ void RecognizeStage::Process(Job* job) {
   out.fovea_m = q.fovea_m;
   out.growth_m = job->used.growth_m;
   out.fixation_seq = job->used.frame_seq;
+  for (const auto& model : c.models) out.models.push_back(model->name);
+  if (!job->recognize) return;  // the tracks hold: recognize_ms stays 0
+  // Verification compares colour only when both sides have it: say once when they differ.
+  if (!colour_checked_.exchange(true) && !HasColour(*frame.cloud))
+    for (const auto& model : c.models)
+      if (model->description.verification().coloured)
+        Log(LogLevel::kWarning, "model '" + model->name +
+                                    "' has colour but the frames do not: verification runs on "
+                                    "geometry alone (docs/RESULTS.md measures both)");
   // Nested parallelism runs in the pipeline's own arena.
   const ParallelFor parallel = TbbParallelFor();
   for (std::size_t m = 0; m < c.models.size(); ++m) {
-    out.models.push_back(c.models[m]->name);
     std::string error;
     RecognitionResult r =
         Recognize(c.models[m]->description, *frame.cloud, q, c.recognition, parallel, &error);
@@ -129,6 +131,48 @@ void RecognizeStage::Process(Job* job) {
   out.recognize_ms = static_cast<float>(Ms(t0, SteadyNowNs()));
 }
 
+bool TrackStage::NeedsRecognition() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return clear_ || tracks_.NeedsRecognition();
+}
+
+void TrackStage::Clear() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  clear_ = true;
+}
+
+void TrackStage::Process(Job* job) {
+  const std::int64_t t0 = SteadyNowNs();
+  const StageConfig& c = *job->config;
+  std::lock_guard<std::mutex> lock(mutex_);
+  // Other models (a switch, a reload that described them again): the tracks mean nothing now.
+  if (clear_ || c.models != models_) {
+    if (tracks_.size() > 0) job->track_events = "tracks cleared";
+    tracks_.Clear();
+    models_ = c.models;
+    clear_ = false;
+  }
+  tracks_.SetOptions(c.tracking);
+  std::vector<TrackModel> models;
+  for (const auto& m : c.models)
+    models.push_back(TrackModel{&m->description.verification(), m->description.centroid()});
+  TrackFrame f;
+  f.seq = static_cast<std::int64_t>(job->frame.sequence);
+  f.time_s = job->frame.capture_utime * 1e-6;
+  f.cloud = job->frame.cloud.get();
+  f.intrinsics = job->frame.intrinsics;
+  f.recognized = job->recognize;
+  f.searched_centre_m = job->detections.fovea_m;
+  // Recognition confirms what lies in the fovea's finest box (grown by G); outside it the
+  // coarse levels may miss an object that is there.
+  f.searched_half_m = job->detections.foveated
+                          ? 0.5f * c.fovea.inner_size_m.maxCoeff() + job->detections.growth_m
+                          : -1.0f;
+  job->detections.instances =
+      tracks_.Update(f, models, job->detections.instances, &job->track_events);
+  job->track_ms = Ms(t0, SteadyNowNs());
+}
+
 AttendStage::AttendStage(const AttentionOptions& options, const Eigen::Vector3f& initial_fovea_m)
     : attention_(options, initial_fovea_m),
       current_(attention_.current()),
@@ -141,10 +185,14 @@ Fixation AttendStage::Current() const {
 
 void AttendStage::Process(Job* job) {
   const std::int64_t t0 = SteadyNowNs();
+  // Attention follows what is seen: held tracks, or recognition's instances without tracking.
+  std::vector<Detection> seen;
+  for (const Detection& d : job->detections.instances)
+    if (d.track_state != TrackState::kLost && d.track_state != TrackState::kSearching)
+      seen.push_back(d);
   std::lock_guard<std::mutex> lock(mutex_);
-  Fixation f =
-      attention_.Update(static_cast<std::int64_t>(job->frame.sequence),
-                        job->frame.capture_utime * 1e-6, job->detections.instances, job->salient);
+  Fixation f = attention_.Update(static_cast<std::int64_t>(job->frame.sequence),
+                                 job->frame.capture_utime * 1e-6, seen, job->salient);
   if (pending_) {  // a command overrides what this frame would have done
     if (pending_->kind == Command::Kind::kSetFovea)
       attention_.Reset(pending_->fovea_m, "command");
@@ -153,6 +201,7 @@ void AttendStage::Process(Job* job) {
     pending_.reset();
     f = attention_.current();
   }
+  if (!job->track_events.empty()) f.reason += ": " + job->track_events;
   current_ = f;
   job->next = f;
   job->attention_ms = Ms(t0, SteadyNowNs());
@@ -188,10 +237,15 @@ void PublishStage::Process(Job* job) {
 
   std::lock_guard<std::mutex> lock(mutex_);
   recognize_.Add(frame.recognize_ms);
+  track_.Add(job->track_ms);
   attend_.Add(job->attention_ms);
   publish_.Add(Ms(t0, t1));
   capture_to_publish_.Add(Ms(job->frame.arrival_steady_ns, t1));
-  run_recognize_.Add(frame.recognize_ms);
+  if (job->recognize) {
+    run_recognize_.Add(frame.recognize_ms);
+    ++recognized_;
+  }
+  run_track_.Add(job->track_ms);
   run_capture_to_publish_.Add(Ms(job->frame.arrival_steady_ns, t1));
   ++processed_;
   if (job->used.frame_seq >= 0)
@@ -210,8 +264,8 @@ void PublishStage::TakePeriod(double period_s, bool whole_run, StatusReport* s,
   s->fixation_lag_max = lag_max_;
   lag_max_ = 0;
   s->mode = mode_;
-  s->stages = {recognize_.TakeReport("recognize"), attend_.TakeReport("attention"),
-               publish_.TakeReport("publish"),
+  s->stages = {recognize_.TakeReport("recognize"), track_.TakeReport("track"),
+               attend_.TakeReport("attention"), publish_.TakeReport("publish"),
                capture_to_publish_.TakeReport("capture_to_publish")};
   *summary = last_summary_;
 }
@@ -219,16 +273,18 @@ void PublishStage::TakePeriod(double period_s, bool whole_run, StatusReport* s,
 std::string PublishStage::RunLine(double seconds, const SourceStats& source) const {
   std::lock_guard<std::mutex> lock(mutex_);
   const double in = static_cast<double>(std::max<std::uint64_t>(source.produced, 1));
-  char line[256];
+  char line[320];
   std::snprintf(line, sizeof line,
                 "run: %lld frames processed in %.1f s (%.1f fps), %llu of %llu dropped "
-                "(%.2f%%); recognize p50 %.1f ms p99 %.1f ms; capture-to-publish p50 %.1f ms "
-                "p99 %.1f ms",
+                "(%.2f%%); recognized %lld, recognize p50 %.1f ms p99 %.1f ms; track p50 %.2f ms "
+                "p99 %.2f ms; capture-to-publish p50 %.1f ms p99 %.1f ms",
                 static_cast<long long>(processed_), seconds, processed_ / seconds,
                 static_cast<unsigned long long>(source.dropped),
                 static_cast<unsigned long long>(source.produced), 100.0 * source.dropped / in,
-                run_recognize_.Percentile(0.5), run_recognize_.Percentile(0.99),
-                run_capture_to_publish_.Percentile(0.5), run_capture_to_publish_.Percentile(0.99));
+                static_cast<long long>(recognized_), run_recognize_.Percentile(0.5),
+                run_recognize_.Percentile(0.99), run_track_.Percentile(0.5),
+                run_track_.Percentile(0.99), run_capture_to_publish_.Percentile(0.5),
+                run_capture_to_publish_.Percentile(0.99));
   return line;
 }
 

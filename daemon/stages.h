@@ -1,9 +1,10 @@
 // The tracker's stages (daemon/tracker.cc runs them in a pipeline). Each owns its state and
-// the lock that guards it: Recognize may run for several frames at once, Attend and Publish run
-// serially in frame order, and the status thread reads Publish's figures.
+// the lock that guards it: Recognize may run for several frames at once, Track, Attend and
+// Publish run serially in frame order, and the status thread reads Publish's figures.
 #pragma once
 
 #include "attention/attention.h"
+#include "attention/tracks.h"
 #include "core/frame.h"
 #include "core/recognition.h"
 #include "core/saliency.h"
@@ -21,16 +22,6 @@
 
 namespace saccade {
 
-/// One frame's trip through the stages.
-struct Job {
-  Frame frame;
-  Fixation used;                         // the fixation the frame was foveated with
-  FrameDetections detections;            // what recognition found, as published
-  std::vector<Eigen::Vector3f> salient;  // the coarse level's salient regions (saccade fallback)
-  double attention_ms = 0;
-  Fixation next;  // attention's fixation after this frame
-};
-
 /// A described model under the name (its spec) it is published with.
 struct NamedModel {
   std::string name;
@@ -38,36 +29,73 @@ struct NamedModel {
 };
 using Models = std::vector<std::shared_ptr<const NamedModel>>;
 
+/// What recognition and tracking run with, swapped whole (a reload, a model switch): a frame
+/// keeps the configuration it started with.
+struct StageConfig {
+  RecognitionOptions recognition;
+  FoveaOptions fovea;
+  SaliencyOptions saliency;
+  TrackingOptions tracking;
+  bool saccade_fallback = false;    // look for salient regions while searching
+  float predict_max_horizon_s = 0;  // the predictor's lead (0: off)
+  Models models;
+};
+
+/// One frame's trip through the stages.
+struct Job {
+  Frame frame;
+  Fixation used;          // the fixation the frame was foveated with
+  bool recognize = true;  // false: the tracks hold and no re-check is due, tracking alone
+  std::shared_ptr<const StageConfig> config;  // what the frame runs with (set by Recognize)
+  FrameDetections detections;            // what recognition found; after Track, what is published
+  std::vector<Eigen::Vector3f> salient;  // the coarse level's salient regions (saccade fallback)
+  double track_ms = 0, attention_ms = 0;
+  std::string track_events;  // what changed in the tracks, for the fixation's reason
+  Fixation next;             // attention's fixation after this frame
+};
+
 /// Loads and describes each model spec (a PCD file, or synthetic:target). nullopt with one
 /// line in `error` naming the model that failed.
 std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
                                      const RecognitionOptions& options, std::string* error);
 
-/// Foveates each frame at the fixation it was given and recognizes every model in it.
+/// Foveates each frame at the fixation it was given and recognizes every model in it (unless
+/// the job says the tracks hold).
 class RecognizeStage {
  public:
-  /// What recognition runs with, swapped whole (a reload, a model switch): a frame keeps the
-  /// configuration it started with.
-  struct Config {
-    RecognitionOptions recognition;
-    FoveaOptions fovea;
-    SaliencyOptions saliency;
-    bool saccade_fallback = false;    // look for salient regions while searching
-    float predict_max_horizon_s = 0;  // the predictor's lead (0: off)
-    Models models;
-  };
+  using Config = StageConfig;
   static std::shared_ptr<const Config> MakeConfig(const DaemonSettings& settings, Models models);
 
   explicit RecognizeStage(std::shared_ptr<const Config> config) : config_(std::move(config)) {}
   std::shared_ptr<const Config> config() const;
   void SetConfig(std::shared_ptr<const Config> config);
-  /// Fills job->detections and job->salient from job->frame and job->used. Thread-safe.
+  /// Sets job->config; fills job->detections (and job->salient) from job->frame and
+  /// job->used, or only their header when !job->recognize. Thread-safe.
   void Process(Job* job);
 
  private:
   mutable std::mutex mutex_;
   std::shared_ptr<const Config> config_;     // guarded by mutex_
   std::atomic<bool> colour_checked_{false};  // the first frame's colour against the models'
+};
+
+/// Frame-to-frame tracking: every held track refined on the frame, recognition's instances
+/// taken by the tracks; job->detections.instances become the tracks' (attention/tracks.h).
+class TrackStage {
+ public:
+  explicit TrackStage(const TrackingOptions& options) : tracks_(options) {}
+  /// Whether the next frame needs recognition. Thread-safe.
+  bool NeedsRecognition() const;
+  /// Serial, in frame order.
+  void Process(Job* job);
+  /// Forgets every track after the frame in progress (a model switch, RESET). Thread-safe.
+  void Clear();
+
+ private:
+  mutable std::mutex mutex_;
+  TrackSet tracks_;     // guarded by mutex_
+  Models models_;       // guarded by mutex_: the models the tracks were made with
+  bool clear_ = false;  // guarded by mutex_: forget the tracks before the next frame
 };
 
 /// The attention loop, and the commands that move it.
@@ -113,8 +141,9 @@ class PublishStage {
   Bus* const bus_;
   const bool summary_line_;
   mutable std::mutex mutex_;
-  LatencyHistogram recognize_, attend_, publish_, capture_to_publish_;  // this status period
-  LatencyHistogram run_recognize_, run_capture_to_publish_;             // the whole run
+  LatencyHistogram recognize_, track_, attend_, publish_, capture_to_publish_;  // this period
+  LatencyHistogram run_recognize_, run_track_, run_capture_to_publish_;         // the whole run
+  std::int64_t recognized_ = 0;  // frames recognition ran on (the others were tracked alone)
   std::int64_t processed_ = 0, last_processed_ = 0;
   int lag_max_ = 0;
   AttentionMode mode_ = AttentionMode::kSearching;

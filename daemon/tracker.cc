@@ -40,6 +40,7 @@ struct Tracker::Impl {
         bus(std::move(bus_)),
         heartbeat(std::move(heartbeat_)),
         recognize(RecognizeStage::MakeConfig(s, std::move(models))),
+        track(s.tracking),
         attend(s.attention, s.initial_fovea_m),
         publish(bus.get(), s.service.summary == ServiceOptions::Summary::kLine) {}
 
@@ -65,6 +66,7 @@ struct Tracker::Impl {
   const std::int64_t started_ns = SteadyNowNs();
 
   RecognizeStage recognize;
+  TrackStage track;
   AttendStage attend;
   PublishStage publish;
 
@@ -84,6 +86,7 @@ void Tracker::Impl::OnCommand(const Command& c, const CommandReply& reply) {
     case Command::Kind::kSetFovea:
     case Command::Kind::kReset:
       attend.Command(c);
+      track.Clear();  // or the tracks would pull the fovea straight back
       break;
     case Command::Kind::kPause:
     case Command::Kind::kResume: {
@@ -182,6 +185,7 @@ std::shared_ptr<Job> Tracker::Impl::NextJob(std::string* source_error) {
   }
   if (job->frame.arrival_steady_ns == 0) job->frame.arrival_steady_ns = SteadyNowNs();
   job->used = attend.Current();
+  job->recognize = track.NeedsRecognition();
   return job;
 }
 
@@ -200,6 +204,9 @@ void Tracker::Impl::RunPipeline(std::string* source_error) {
           return job;
         }) & tbb::make_filter<JobPtr, JobPtr>(tbb::filter_mode::parallel, [&](JobPtr job) {
           recognize.Process(job.get());
+          return job;
+        }) & tbb::make_filter<JobPtr, JobPtr>(tbb::filter_mode::serial_in_order, [&](JobPtr job) {
+          track.Process(job.get());
           return job;
         }) & tbb::make_filter<JobPtr, JobPtr>(tbb::filter_mode::serial_in_order, [&](JobPtr job) {
           attend.Process(job.get());
@@ -244,7 +251,9 @@ void Tracker::Process(Frame frame) {
   job.frame = std::move(frame);
   if (job.frame.arrival_steady_ns == 0) job.frame.arrival_steady_ns = SteadyNowNs();
   job.used = impl_->attend.Current();
+  job.recognize = impl_->track.NeedsRecognition();
   impl_->recognize.Process(&job);
+  impl_->track.Process(&job);
   impl_->attend.Process(&job);
   impl_->publish.Process(&job);
 }

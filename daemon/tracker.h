@@ -1,5 +1,5 @@
-// saccaded's engine: frames from a source through foveation and recognition (in parallel),
-// attention and publishing (serial, in frame order) in a tbb::parallel_pipeline with a bounded
+// saccaded's engine: frames from a source through foveation and recognition (in parallel; only
+// when the tracks need it), tracking, attention and publishing (serial, in frame order) in a tbb::parallel_pipeline with a bounded
 // number of frames in flight, plus the status and the commands from the bus. It is built from
 // the stages of daemon/stages.h and takes its source and bus from outside, so a test can drive
 // it frame by frame with an in-memory bus.

@@ -100,6 +100,9 @@ class LcmBus : public Bus {
       i.fitness = r.fitness;
       i.coverage = r.coverage;
       i.colour_agreement = r.colour_agreement;
+      i.track_id = r.track_id;
+      i.track_state = static_cast<std::int8_t>(r.track_state);
+      i.track_state_name = TrackStateName(r.track_state);
       d.instances.push_back(i);
     }
     d.num_instances = static_cast<std::int32_t>(d.instances.size());

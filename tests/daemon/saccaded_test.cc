@@ -350,7 +350,7 @@ TEST(Saccaded, RejectsMalformedCommandsCountsThemAndKeepsRunning) {
     return s.commands_rejected == 4 && s.commands_accepted == 1;
   })) << ReadFile(box.Path("err"));
   EXPECT_TRUE(watch.WaitForFixation([](const saccade::fixation_t& f) {
-    return f.reason == "command" && std::abs(f.fovea[0] - 0.5) < 1e-6 &&
+    return f.reason.rfind("command", 0) == 0 && std::abs(f.fovea[0] - 0.5) < 1e-6 &&
            std::abs(f.fovea[2] - 1.5) < 1e-6;
   }));
 

@@ -1,0 +1,263 @@
+#include "attention/tracks.h"
+
+#include "core/fail.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+
+namespace saccade {
+namespace {
+
+Eigen::Vector3f CentroidOf(const Eigen::Matrix4f& X_CM, const Eigen::Vector3f& model_centroid) {
+  return Eigen::Affine3f(X_CM) * model_centroid;
+}
+
+void Say(std::string* events, const std::string& what) {
+  if (!events) return;
+  if (!events->empty()) *events += "; ";
+  *events += what;
+}
+
+std::string Figures(const char* what, int id, float fitness, float coverage) {
+  char s[120];
+  std::snprintf(s, sizeof s, "track %d %s (fitness %.2f coverage %.2f)", id, what, fitness,
+                coverage);
+  return s;
+}
+
+bool FrameUsable(const TrackFrame& f) {
+  return f.cloud && f.cloud->height > 1 && static_cast<int>(f.cloud->width) == f.intrinsics.width &&
+         static_cast<int>(f.cloud->height) == f.intrinsics.height;
+}
+
+}  // namespace
+
+bool TrackingOptions::IsValid(std::string* error) const {
+  if (recheck_every < 1) return Fail(error, "recheck_every must be >= 1");
+  if (!(recheck_below_fitness >= 0 && recheck_below_fitness <= 1))
+    return Fail(error, "recheck_below_fitness must be in [0, 1]");
+  if (unconfirmed_rechecks < 1) return Fail(error, "unconfirmed_rechecks must be >= 1");
+  if (!(same_track_m > 0)) return Fail(error, "same_track_m must be > 0");
+  if (max_tracks < 1) return Fail(error, "max_tracks must be >= 1");
+  if (forget_after_frames < 1) return Fail(error, "forget_after_frames must be >= 1");
+  return refine.IsValid(error);
+}
+
+Eigen::Matrix4f TrackSet::Track::PredictedAt(double t_s) const {
+  if (!(motion_dt_s > 0)) return pose;
+  // The last motion scaled to the time since the last pose (a dropped frame doubles it), at
+  // most three times over.
+  const float r = static_cast<float>(std::clamp((t_s - time_s) / motion_dt_s, 0.0, 3.0));
+  const Eigen::AngleAxisf turn(Eigen::Matrix3f(motion.topLeftCorner<3, 3>()));
+  Eigen::Matrix4f scaled = Eigen::Matrix4f::Identity();
+  scaled.topLeftCorner<3, 3>() = Eigen::AngleAxisf(turn.angle() * r, turn.axis()).matrix();
+  scaled.topRightCorner<3, 1>() = motion.topRightCorner<3, 1>() * r;
+  return scaled * pose;
+}
+
+bool TrackSet::NeedsRecognition() const {
+  if (!options_.enabled || tracks_.empty()) return true;
+  for (const Track& t : tracks_) {
+    if (!Held(t)) return true;
+    if (t.frames_since_check + 1 >= options_.recheck_every) return true;
+    if (t.fitness < options_.recheck_below_fitness) return true;
+  }
+  return false;
+}
+
+void TrackSet::Refine(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
+                      std::string* events) {
+  TrackResult r;
+  if (FrameUsable(frame))
+    r = TrackPose(*models[std::size_t(t->model)].points, *frame.cloud, frame.intrinsics,
+                  t->PredictedAt(frame.time_s), options_.refine);
+  t->fitness = r.fitness;
+  t->coverage = r.coverage;
+  if (!r.tracking) {
+    t->state = TrackState::kLost;
+    t->lost_seq = frame.seq;
+    Say(events, FrameUsable(frame)
+                    ? Figures("lost", t->id, r.fitness, r.coverage)
+                    : "track " + std::to_string(t->id) + " lost (the frame is not organized)");
+    return;
+  }
+  t->motion = r.model_to_camera * t->pose.inverse();
+  t->motion_dt_s = frame.time_s - t->time_s;
+  t->pose = r.model_to_camera;
+  t->time_s = frame.time_s;
+  t->state = TrackState::kTracking;
+  ++t->frames_since_check;
+}
+
+Detection TrackSet::Publish(const Track& t, const std::vector<TrackModel>& models) const {
+  Detection d;
+  d.model = t.model;
+  d.model_to_scene = t.pose;
+  d.centroid_m = CentroidOf(t.pose, models[std::size_t(t.model)].centroid);
+  d.track_id = t.id;
+  d.track_state = t.state;
+  if (t.state == TrackState::kReacquired) {  // recognition's figures for what it found
+    d.votes = t.found.votes;
+    d.fitness = t.found.fitness;
+    d.coverage = t.found.coverage;
+    d.colour_agreement = t.found.colour_agreement;
+    d.confidence = t.found.confidence;
+  } else if (t.state == TrackState::kTracking) {
+    d.fitness = t.fitness;
+    d.coverage = t.coverage;
+    // The track score: the share of its points the frame does not contradict, discounted
+    // while less than half of what faces the camera is found.
+    d.confidence = t.fitness * std::min(1.0f, t.coverage / 0.5f);
+  } else {
+    d.confidence = 0;
+  }
+  return d;
+}
+
+std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
+                                        const std::vector<TrackModel>& models,
+                                        const std::vector<Detection>& recognized,
+                                        std::string* events) {
+  if (!options_.enabled) return recognized;
+  // Lost last frame: searching now; searched too long: forgotten.
+  for (Track& t : tracks_)
+    if (t.state == TrackState::kLost) t.state = TrackState::kSearching;
+  tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
+                               [&](const Track& t) {
+                                 const bool forget =
+                                     t.state == TrackState::kSearching &&
+                                     frame.seq - t.lost_seq >= options_.forget_after_frames;
+                                 if (forget)
+                                   Say(events, "track " + std::to_string(t.id) + " forgotten");
+                                 return forget;
+                               }),
+                tracks_.end());
+  for (Track& t : tracks_)
+    if (Held(t)) Refine(frame, models, &t, events);
+
+  std::vector<Detection> out;
+  if (frame.recognized) {
+    // Recognition's instances, most confident first, each to one track at most.
+    std::vector<std::size_t> order(recognized.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return recognized[a].confidence > recognized[b].confidence;
+    });
+    std::vector<bool> taken(tracks_.size(), false);
+    const auto inside_search = [&](const Track& t) {
+      if (frame.searched_half_m < 0) return true;
+      const Eigen::Vector3f c = CentroidOf(t.pose, models[std::size_t(t.model)].centroid);
+      return ((c - frame.searched_centre_m).array().abs() <= frame.searched_half_m).all();
+    };
+    const auto distance = [&](const Track& t, const Detection& d) {
+      return (CentroidOf(t.pose, models[std::size_t(t.model)].centroid) - d.centroid_m).norm();
+    };
+    // Takes instance `d` for track i: a held track it agrees with keeps its refined pose; any
+    // other starts again from recognition's pose, refined on this frame when the frame holds it.
+    const auto reacquire = [&](std::size_t i, const Detection& d, const char* why) {
+      Track& t = tracks_[i];
+      taken[i] = true;
+      const int lost_for = t.lost_seq >= 0 ? static_cast<int>(frame.seq - t.lost_seq) : 0;
+      t.pose = d.model_to_scene;
+      t.time_s = frame.time_s;
+      t.motion = Eigen::Matrix4f::Identity();
+      t.motion_dt_s = 0;
+      t.state = TrackState::kReacquired;
+      t.frames_since_check = 0;
+      t.unconfirmed = 0;
+      t.lost_seq = -1;
+      t.found = d;
+      t.fitness = d.fitness;
+      t.coverage = d.coverage;
+      if (FrameUsable(frame)) {
+        const TrackResult r = TrackPose(*models[std::size_t(t.model)].points, *frame.cloud,
+                                        frame.intrinsics, t.pose, options_.refine);
+        if (r.tracking) t.pose = r.model_to_camera;
+      }
+      std::string what = "track " + std::to_string(t.id) + " " + why;
+      if (lost_for > 0) what += " after " + std::to_string(lost_for) + " frames";
+      Say(events, what);
+    };
+
+    std::vector<bool> used(recognized.size(), false);
+    // 1. Instances that agree with a held track confirm it.
+    for (std::size_t k : order) {
+      const Detection& d = recognized[k];
+      for (std::size_t i = 0; i < tracks_.size() && !used[k]; ++i) {
+        Track& t = tracks_[i];
+        if (t.model != d.model || taken[i] || distance(t, d) > options_.same_track_m) continue;
+        if (t.state == TrackState::kTracking) {
+          taken[i] = used[k] = true;
+          t.frames_since_check = 0;
+          t.unconfirmed = 0;
+        } else if (t.state == TrackState::kLost) {  // lost this frame, yet recognized here
+          reacquire(i, d, "re-acquired by recognition");
+          used[k] = true;
+        }
+      }
+    }
+    // 2. The others: a track of their model that is lost, the nearest first; then a held track
+    // recognition looked at and did not find (it slid off its object); then a new track.
+    for (std::size_t k : order) {
+      if (used[k]) continue;
+      const Detection& d = recognized[k];
+      std::size_t best = tracks_.size();
+      for (std::size_t i = 0; i < tracks_.size(); ++i) {
+        const Track& t = tracks_[i];
+        if (t.model != d.model || taken[i] || Held(t)) continue;
+        if (best == tracks_.size() || distance(t, d) < distance(tracks_[best], d)) best = i;
+      }
+      if (best < tracks_.size()) {
+        reacquire(best, d, "re-acquired by recognition");
+        used[k] = true;
+        continue;
+      }
+      for (std::size_t i = 0; i < tracks_.size() && !used[k]; ++i) {
+        const Track& t = tracks_[i];
+        if (t.model != d.model || taken[i] || !Held(t) || !inside_search(t)) continue;
+        char why[96];
+        std::snprintf(why, sizeof why, "put back by recognition (%.1f cm off)",
+                      100.0f * distance(t, d));
+        reacquire(i, d, why);
+        used[k] = true;
+      }
+      if (used[k]) continue;
+      if (static_cast<int>(tracks_.size()) >= options_.max_tracks) {
+        Detection untracked = d;
+        untracked.track_state = TrackState::kReacquired;
+        out.push_back(untracked);
+        continue;
+      }
+      Track t;
+      t.id = next_id_++;
+      t.model = d.model;
+      tracks_.push_back(t);
+      taken.push_back(false);
+      reacquire(tracks_.size() - 1, d, "found");
+      used[k] = true;
+    }
+    // 3. Held tracks recognition looked at and did not find, and the re-check clock.
+    for (std::size_t i = 0; i < tracks_.size(); ++i) {
+      Track& t = tracks_[i];
+      if (!Held(t) || taken[i]) continue;
+      t.frames_since_check = 0;
+      if (!inside_search(t)) continue;
+      if (++t.unconfirmed >= options_.unconfirmed_rechecks) {
+        t.state = TrackState::kLost;
+        t.lost_seq = frame.seq;
+        Say(events, "track " + std::to_string(t.id) + " lost (not confirmed by " +
+                        std::to_string(t.unconfirmed) + " re-checks)");
+      }
+    }
+  }
+  std::vector<Detection> tracked;
+  tracked.reserve(tracks_.size() + out.size());
+  for (const Track& t : tracks_) tracked.push_back(Publish(t, models));
+  tracked.insert(tracked.end(), out.begin(), out.end());
+  return tracked;
+}
+
+}  // namespace saccade

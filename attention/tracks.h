@@ -1,0 +1,133 @@
+// The tracks of issue 16: once recognition finds an object, each new frame refines its last
+// pose (seeded by the constant-velocity prediction) with core/tracking.h's TrackPose instead of
+// recognizing it again. A track is TRACKING while the frame supports it, LOST on the first
+// frame that does not, SEARCHING after that (attention grows the fovea, recognition runs), and
+// RE-ACQUIRED on the frame recognition finds it again. Recognition also re-checks every track
+// every few frames and whenever its score drops, so a track that slid onto a neighbour is put
+// back. Several objects at once, each with a stable id. Pure: frames and recognition's
+// instances in, the frame's instances with their track ids and states out. Not thread-safe.
+#pragma once
+
+#include "core/camera.h"
+#include "core/schema.h"
+#include "core/tracking.h"
+#include "core/types.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace saccade {
+
+struct TrackingOptions {
+  /// Off: recognition runs on every frame and its instances are published as they are
+  /// (track_state NONE), the behaviour before tracking.
+  bool enabled = true;
+  /// Recognition re-checks a tracked object after this many frames without it (1: every frame,
+  /// recognition's cost each frame; tracking then only smooths and names).
+  int recheck_every = 10;
+  /// A track whose fitness falls below this (but not below TrackOptions::min_fitness) is
+  /// re-checked on the next frame.
+  float recheck_below_fitness = 0.8f;
+  /// A track not confirmed by this many re-checks in a row (recognition ran at its place and
+  /// found no instance of its model near it) is LOST: a track on a wrong object does not hold.
+  int unconfirmed_rechecks = 3;
+  /// A recognized instance whose centroid is this near a track's (prediction) is that track.
+  float same_track_m = 0.05f;
+  int max_tracks = 4;  // tracks kept at once; a new object past this is not tracked
+  /// A track searched for this many frames is forgotten (its id is not reused).
+  int forget_after_frames = 300;
+  TrackOptions refine;  // TrackPose's options: the section's other keys
+
+  bool IsValid(std::string* error) const;
+  bool operator==(const TrackingOptions& o) const { return SameFields(*this, o); }
+  bool operator!=(const TrackingOptions& o) const { return !(*this == o); }
+  /// The keys of the `tracking` section (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("enabled", &enabled);
+    a->Visit("recheck_every", &recheck_every);
+    a->Visit("recheck_below_fitness", &recheck_below_fitness);
+    a->Visit("unconfirmed_rechecks", &unconfirmed_rechecks);
+    a->Visit("same_track_m", &same_track_m);
+    a->Visit("max_tracks", &max_tracks);
+    a->Visit("forget_after_frames", &forget_after_frames);
+    refine.Serialize(a);
+  }
+};
+
+/// A model as tracks see it: the points and normals TrackPose aligns, and its centroid (model
+/// frame) that instances report.
+struct TrackModel {
+  const VerificationModel* points = nullptr;  // outlives the call it is passed to
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+};
+
+/// One frame as tracks see it.
+struct TrackFrame {
+  std::int64_t seq = 0;
+  double time_s = 0;
+  const Cloud* cloud = nullptr;  // organized, intrinsics' size, or tracks cannot be refined on it
+  CameraIntrinsics intrinsics;
+  bool recognized = false;  // recognition ran on this frame (its instances may still be none)
+  /// Where recognition searched (a re-check confirms only the tracks inside): the fovea's centre
+  /// and the half-size of its largest box; a negative half-size means the whole frame.
+  Eigen::Vector3f searched_centre_m = Eigen::Vector3f::Zero();
+  float searched_half_m = -1;
+};
+
+class TrackSet {
+ public:
+  explicit TrackSet(const TrackingOptions& options) : options_(options) {}
+
+  /// Whether the next frame needs recognition: a track is not held, a re-check is due, a score
+  /// dropped, or there is no track at all (always, with tracking off).
+  bool NeedsRecognition() const;
+  /// Digests one frame: refines every held track on it, then takes recognition's instances
+  /// (when it ran; `models` indexed by Detection::model). Returns the frame's instances: every
+  /// track's, with its id, state and confidence (TRACKING: the track score; LOST and SEARCHING:
+  /// 0 at the last pose), and recognized instances no track took (state RE-ACQUIRED, a new id,
+  /// unless max_tracks are held: then id -1). Appends what changed to `events` (may be null),
+  /// "; "-separated, for the fixation log: "track 0 lost (fitness 0.41 coverage 0.12)".
+  std::vector<Detection> Update(const TrackFrame& frame, const std::vector<TrackModel>& models,
+                                const std::vector<Detection>& recognized, std::string* events);
+  /// Forgets every track (a model switch, a RESET); ids go on from where they were.
+  void Clear() { tracks_.clear(); }
+  void SetOptions(const TrackingOptions& options) { options_ = options; }
+  const TrackingOptions& options() const { return options_; }
+  std::size_t size() const { return tracks_.size(); }
+
+ private:
+  struct Track {
+    int id = 0;
+    int model = 0;
+    TrackState state = TrackState::kReacquired;
+    Eigen::Matrix4f pose = Eigen::Matrix4f::Identity();  // X_CM at time_s
+    double time_s = 0;
+    /// The last frame-to-frame motion, left-multiplied (X_CM(t) = motion * X_CM(t - dt)), and
+    /// its dt; identity until the track has two poses in a row.
+    Eigen::Matrix4f motion = Eigen::Matrix4f::Identity();
+    double motion_dt_s = 0;
+    float fitness = 0, coverage = 0;
+    int frames_since_check = 0;  // frames since recognition last looked at it
+    int unconfirmed = 0;         // re-checks in a row that did not find it
+    std::int64_t lost_seq = -1;  // the frame it was lost on, -1 while held
+    Detection found;             // recognition's instance when it was last (re-)acquired
+    Eigen::Matrix4f PredictedAt(double time_s) const;
+  };
+
+  bool Held(const Track& t) const {
+    return t.state == TrackState::kTracking || t.state == TrackState::kReacquired;
+  }
+  void Refine(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
+              std::string* events);
+  Detection Publish(const Track& t, const std::vector<TrackModel>& models) const;
+
+  TrackingOptions options_;
+  std::vector<Track> tracks_;  // oldest first
+  int next_id_ = 0;
+};
+
+}  // namespace saccade

@@ -1,0 +1,201 @@
+// The tracks on the synthetic Kinect's demo case: a found object is held by tracking alone
+// until its re-check, is LOST on the first frame that no longer shows it and SEARCHING after,
+// keeps its id when recognition finds it again, and a track recognition does not confirm (or
+// finds elsewhere) does not hold.
+#include "attention/tracks.h"
+
+#include "core/recognition.h"
+#include "core/sim/scenario.h"
+
+#include <gtest/gtest.h>
+
+namespace saccade {
+namespace {
+
+struct Demo {
+  Demo() : demo(MakeDemoCase(/*seed=*/5)) {
+    std::string error;
+    model.emplace(*DescribeModel(demo.model, RecognitionOptions{}, &error));
+    // With the object's pixels emptied out (as when it left the view).
+    empty = demo.scene.cloud;
+    for (PointT& p : empty) {
+      const Eigen::Vector3f in_object = demo.truth.inverse() * p.getVector3fMap();
+      if (in_object.allFinite() && in_object.norm() < 0.2f)
+        p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
+    }
+  }
+  std::vector<TrackModel> Models() const {
+    return {TrackModel{&model->verification(), model->centroid()}};
+  }
+  /// Recognition's instance at `pose` (the truth unless said).
+  Detection Found(const Eigen::Matrix4f& pose) const {
+    Detection d;
+    d.model = 0;
+    d.model_to_scene = pose;
+    d.centroid_m = Eigen::Affine3f(pose) * model->centroid();
+    d.votes = 12;
+    d.fitness = 0.9f;
+    d.coverage = 0.5f;
+    d.confidence = 0.95f;
+    return d;
+  }
+  Detection Found() const { return Found(demo.truth.matrix()); }
+  TrackFrame Frame(std::int64_t seq, const Cloud& cloud, bool recognized) const {
+    TrackFrame f;
+    f.seq = seq;
+    f.time_s = seq / 30.0;
+    f.cloud = &cloud;
+    f.recognized = recognized;
+    f.searched_centre_m = demo.truth * model->centroid();
+    f.searched_half_m = 0.25f;
+    return f;
+  }
+  CrossCaptureCase demo;
+  std::optional<ModelDescription> model;
+  Cloud empty;
+};
+
+const Demo& TheDemo() {
+  static const Demo d;
+  return d;
+}
+
+TEST(TrackSet, AFoundObjectIsHeldByTrackingAloneUntilItsRecheck) {
+  const Demo& d = TheDemo();
+  TrackingOptions o;
+  o.recheck_every = 5;
+  TrackSet tracks(o);
+  EXPECT_TRUE(tracks.NeedsRecognition());  // nothing to track yet
+  std::string events;
+  std::vector<Detection> out =
+      tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, &events);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
+  EXPECT_EQ(out[0].track_id, 0);
+  EXPECT_FLOAT_EQ(out[0].confidence, 0.95f);  // recognition's, for what it found
+  EXPECT_EQ(events, "track 0 found");
+  int tracked_alone = 0;
+  for (std::int64_t seq = 1; !tracks.NeedsRecognition(); ++seq) {
+    events.clear();
+    out = tracks.Update(d.Frame(seq, d.demo.scene.cloud, false), d.Models(), {}, &events);
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_EQ(out[0].track_state, TrackState::kTracking) << "frame " << seq;
+    EXPECT_EQ(out[0].track_id, 0);
+    EXPECT_GT(out[0].confidence, 0.5f);
+    const PoseError e =
+        ComparePoses(out[0].model_to_scene, d.demo.truth.matrix(), d.model->centroid());
+    EXPECT_LT(e.translation_m, 0.003) << "frame " << seq;
+    EXPECT_TRUE(events.empty()) << events;
+    ++tracked_alone;
+  }
+  // Frames 1-4 by tracking alone; frame 5 is the re-check.
+  EXPECT_EQ(tracked_alone, 4);
+}
+
+TEST(TrackSet, ATrackThatLosesItsObjectIsLostOnThatFrameThenSearchingAndKeepsItsId) {
+  const Demo& d = TheDemo();
+  TrackSet tracks(TrackingOptions{});
+  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  tracks.Update(d.Frame(1, d.demo.scene.cloud, false), d.Models(), {}, nullptr);
+  std::string events;
+  std::vector<Detection> out = tracks.Update(d.Frame(2, d.empty, false), d.Models(), {}, &events);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kLost);
+  EXPECT_EQ(out[0].confidence, 0.0f);
+  EXPECT_EQ(events.rfind("track 0 lost (fitness", 0), 0u) << events;
+  EXPECT_TRUE(tracks.NeedsRecognition());
+  out = tracks.Update(d.Frame(3, d.empty, true), d.Models(), {}, nullptr);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kSearching);
+  // Back in view and found again: the same id, re-acquired.
+  events.clear();
+  out = tracks.Update(d.Frame(4, d.demo.scene.cloud, true), d.Models(), {d.Found()}, &events);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
+  EXPECT_EQ(out[0].track_id, 0);
+  EXPECT_EQ(events, "track 0 re-acquired by recognition after 2 frames");
+  out = tracks.Update(d.Frame(5, d.demo.scene.cloud, false), d.Models(), {}, nullptr);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kTracking);
+  EXPECT_LT(
+      ComparePoses(out[0].model_to_scene, d.demo.truth.matrix(), d.model->centroid()).translation_m,
+      0.003);
+}
+
+TEST(TrackSet, ARecheckThatFindsTheObjectElsewherePutsTheTrackBack) {
+  const Demo& d = TheDemo();
+  TrackSet tracks(TrackingOptions{});
+  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  // The re-check finds the model 40 cm away and nothing where the track is: recognition, not
+  // the track, is trusted (the track may have slid onto a look-alike).
+  Eigen::Matrix4f there = d.demo.truth.matrix();
+  there(0, 3) += 0.4f;
+  std::string events;
+  const std::vector<Detection> out =
+      tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found(there)}, &events);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_id, 0);
+  EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
+  EXPECT_LT(ComparePoses(out[0].model_to_scene, there, d.model->centroid()).translation_m, 1e-4);
+  EXPECT_EQ(events, "track 0 put back by recognition (40.0 cm off)");
+}
+
+TEST(TrackSet, ATrackRecognitionDoesNotConfirmIsLostAfterTheConfiguredRechecks) {
+  const Demo& d = TheDemo();
+  TrackingOptions o;
+  o.unconfirmed_rechecks = 2;
+  TrackSet tracks(o);
+  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  std::vector<Detection> out =
+      tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {}, nullptr);
+  EXPECT_EQ(out.at(0).track_state, TrackState::kTracking);  // one miss: recognition misses
+  std::string events;
+  out = tracks.Update(d.Frame(2, d.demo.scene.cloud, true), d.Models(), {}, &events);
+  EXPECT_EQ(out.at(0).track_state, TrackState::kLost);
+  EXPECT_EQ(events, "track 0 lost (not confirmed by 2 re-checks)");
+}
+
+TEST(TrackSet, SecondObjectGetsItsOwnIdAndMaxTracksBoundsThem) {
+  const Demo& d = TheDemo();
+  TrackingOptions o;
+  o.max_tracks = 2;
+  TrackSet tracks(o);
+  Eigen::Matrix4f a = d.demo.truth.matrix(), b = a, c = a;
+  b(0, 3) += 0.3f;
+  c(0, 3) -= 0.3f;
+  const std::vector<Detection> out = tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(),
+                                                   {d.Found(a), d.Found(b), d.Found(c)}, nullptr);
+  ASSERT_EQ(out.size(), 3u);
+  EXPECT_EQ(out[0].track_id, 0);
+  EXPECT_EQ(out[1].track_id, 1);
+  EXPECT_EQ(out[2].track_id, -1);  // past max_tracks: published, not tracked
+  EXPECT_EQ(tracks.size(), 2u);
+}
+
+TEST(TrackSet, WithTrackingOffRecognitionsInstancesPassThrough) {
+  const Demo& d = TheDemo();
+  TrackingOptions o;
+  o.enabled = false;
+  TrackSet tracks(o);
+  const std::vector<Detection> out =
+      tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kNone);
+  EXPECT_EQ(out[0].track_id, -1);
+  EXPECT_TRUE(tracks.NeedsRecognition());
+}
+
+TEST(TrackingOptions, InvalidValuesNameTheField) {
+  std::string error;
+  TrackingOptions o;
+  o.recheck_every = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("recheck_every"), std::string::npos) << error;
+  o = TrackingOptions{};
+  o.refine.min_coverage = 3;  // TrackPose's keys are the section's too
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("min_coverage"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace saccade
