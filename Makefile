@@ -3,7 +3,8 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
 
-.PHONY: all deps configure build demo test bench bench-stages bench-daemon eval-xcap eval-xcap-ppf clean
+.PHONY: all deps configure build demo test bench bench-stages bench-daemon bench-track eval-xcap \
+        eval-xcap-ppf clean
 
 all: build
 
@@ -36,6 +37,11 @@ bench-stages: build
 # saccaded against a 30 Hz virtual OpenNI2 camera; see docs/BENCHMARKS.md.
 bench-daemon: build
 	@./scripts/bench-daemon.sh $(BUILD_DIR)
+
+# Tracking on every sequence (synthetic, and real captures re-rendered when ../shared/data is
+# there) at 30 Hz: tracked share, re-acquisition, drops; JSON lines last. docs/BENCHMARKS.md.
+bench-track: build
+	@./scripts/bench-track.sh $(BUILD_DIR)
 
 # The cross-capture benchmark (needs ../shared/data/mosd_xcap), all three protocols, with the
 # stock PCL peer: writes eval-xcap/report.md, the tables of docs/RESULTS.md (about 20 minutes).

@@ -144,6 +144,7 @@ void Attention::Follow(const Target& target, double time_s, const char* reason, 
   next->velocity_mps = target.velocity_mps;
   next->growth_m = options_.growth_min_m;
   next->mode = AttentionMode::kTracking;
+  next->searched_frames = 0;
   next->target = target.id;
   next->model = target.model;
   next->reason = reason;
@@ -153,6 +154,7 @@ Fixation Attention::Update(std::int64_t frame_seq, double time_s,
                            const std::vector<Detection>& sightings,
                            const std::vector<Eigen::Vector3f>& salient_regions) {
   Fixation next = current_;
+  ++next.searched_frames;  // Follow sets it back to 0
   next.frame_seq = frame_seq;
   next.time_s = time_s;
   bool attended_seen = false;

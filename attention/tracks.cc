@@ -41,6 +41,8 @@ bool TrackingOptions::IsValid(std::string* error) const {
     return Fail(error, "recheck_below_fitness must be in [0, 1]");
   if (unconfirmed_rechecks < 1) return Fail(error, "unconfirmed_rechecks must be >= 1");
   if (!(same_track_m > 0)) return Fail(error, "same_track_m must be > 0");
+  if (!(min_extra_track_confidence >= 0 && min_extra_track_confidence <= 1))
+    return Fail(error, "min_extra_track_confidence must be in [0, 1]");
   if (max_tracks < 1) return Fail(error, "max_tracks must be >= 1");
   if (forget_after_frames < 1) return Fail(error, "forget_after_frames must be >= 1");
   return refine.IsValid(error);
@@ -61,9 +63,18 @@ Eigen::Matrix4f TrackSet::Track::PredictedAt(double t_s) const {
 bool TrackSet::NeedsRecognition() const {
   if (!options_.enabled || tracks_.empty()) return true;
   for (const Track& t : tracks_) {
-    if (!Held(t)) return true;
-    if (t.frames_since_check + 1 >= options_.recheck_every) return true;
-    if (t.fitness < options_.recheck_below_fitness) return true;
+    if (Held(t)) {
+      if (t.frames_since_check + 1 >= options_.recheck_every) return true;
+      if (t.fitness < options_.recheck_below_fitness) return true;
+      continue;
+    }
+    // A lost track is searched for unless its model is held by another track: then the
+    // re-checks look for it (one object of a model is the common case; a false track that
+    // was lost should not make every frame a search).
+    const bool model_held = std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& o) {
+      return o.model == t.model && Held(o);
+    });
+    if (!model_held) return true;
   }
   return false;
 }
@@ -166,8 +177,9 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       t.motion = Eigen::Matrix4f::Identity();
       t.motion_dt_s = 0;
       t.state = TrackState::kReacquired;
-      t.frames_since_check = 0;
-      t.unconfirmed = 0;
+      // Tentative: re-checked on the next frame, where one miss loses it.
+      t.frames_since_check = options_.recheck_every;
+      t.unconfirmed = options_.unconfirmed_rechecks - 1;
       t.lost_seq = -1;
       t.found = d;
       t.fitness = d.fitness;
@@ -225,10 +237,11 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
         used[k] = true;
       }
       if (used[k]) continue;
-      if (static_cast<int>(tracks_.size()) >= options_.max_tracks) {
-        Detection untracked = d;
-        untracked.track_state = TrackState::kReacquired;
-        out.push_back(untracked);
+      const bool model_tracked = std::any_of(tracks_.begin(), tracks_.end(),
+                                             [&](const Track& o) { return o.model == d.model; });
+      if (static_cast<int>(tracks_.size()) >= options_.max_tracks ||
+          (model_tracked && d.confidence < options_.min_extra_track_confidence)) {
+        out.push_back(d);  // published as recognition found it, not tracked (state NONE)
         continue;
       }
       Track t;

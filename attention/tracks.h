@@ -33,9 +33,16 @@ struct TrackingOptions {
   float recheck_below_fitness = 0.8f;
   /// A track not confirmed by this many re-checks in a row (recognition ran at its place and
   /// found no instance of its model near it) is LOST: a track on a wrong object does not hold.
+  /// A track just (re-)acquired is re-checked on the next frame and one miss there loses it:
+  /// a false instance of one frame does not become a track.
   int unconfirmed_rechecks = 3;
   /// A recognized instance whose centroid is this near a track's (prediction) is that track.
   float same_track_m = 0.05f;
+  /// A second track of a model already tracked starts only from an instance this confident
+  /// (of recognition's instances at >= 0.9, 97% were true on the cross-capture benchmark,
+  /// docs/RESULTS.md): one object per model is the common case, and a look-alike the usual
+  /// false instance.
+  float min_extra_track_confidence = 0.9f;
   int max_tracks = 4;  // tracks kept at once; a new object past this is not tracked
   /// A track searched for this many frames is forgotten (its id is not reused).
   int forget_after_frames = 300;
@@ -52,6 +59,7 @@ struct TrackingOptions {
     a->Visit("recheck_below_fitness", &recheck_below_fitness);
     a->Visit("unconfirmed_rechecks", &unconfirmed_rechecks);
     a->Visit("same_track_m", &same_track_m);
+    a->Visit("min_extra_track_confidence", &min_extra_track_confidence);
     a->Visit("max_tracks", &max_tracks);
     a->Visit("forget_after_frames", &forget_after_frames);
     refine.Serialize(a);
@@ -82,14 +90,16 @@ class TrackSet {
  public:
   explicit TrackSet(const TrackingOptions& options) : options_(options) {}
 
-  /// Whether the next frame needs recognition: a track is not held, a re-check is due, a score
-  /// dropped, or there is no track at all (always, with tracking off).
+  /// Whether the next frame needs recognition: a re-check is due, a score dropped, a track is
+  /// lost and no other track holds its model, or there is no track at all (always, with
+  /// tracking off).
   bool NeedsRecognition() const;
   /// Digests one frame: refines every held track on it, then takes recognition's instances
   /// (when it ran; `models` indexed by Detection::model). Returns the frame's instances: every
   /// track's, with its id, state and confidence (TRACKING: the track score; LOST and SEARCHING:
-  /// 0 at the last pose), and recognized instances no track took (state RE-ACQUIRED, a new id,
-  /// unless max_tracks are held: then id -1). Appends what changed to `events` (may be null),
+  /// 0 at the last pose), and recognized instances no track took (state RE-ACQUIRED with a new
+  /// id; NONE with id -1 past max_tracks or min_extra_track_confidence). Appends what changed to
+  /// `events` (may be null),
   /// "; "-separated, for the fixation log: "track 0 lost (fitness 0.41 coverage 0.12)".
   std::vector<Detection> Update(const TrackFrame& frame, const std::vector<TrackModel>& models,
                                 const std::vector<Detection>& recognized, std::string* events);

@@ -24,6 +24,9 @@ struct Fixation {
   /// The followed target's velocity when the predictor is on, else zero.
   Eigen::Vector3f velocity_mps = Eigen::Vector3f::Zero();
   float growth_m = 0;  // G, applied on every axis
+  /// Frames searched since the target was lost (or since a reset): 0 while following one. A
+  /// budgeted search (RecognitionOptions::max_scene_keypoints) takes its window from it.
+  int searched_frames = 0;
   AttentionMode mode = AttentionMode::kSearching;
   int target = -1;      // id of the followed target (stable across frames), -1 when none
   int model = -1;       // that target's model index, -1 when none

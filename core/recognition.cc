@@ -21,6 +21,36 @@ double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+// The search budget: `budget` of the keypoints, in order of distance from the fovea, the
+// query's phase choosing the window (windows start every budget / 2 keypoints).
+std::vector<int> BudgetedWindow(const Cloud& scene, const std::vector<int>& keypoints,
+                                const SceneQuery& query, int budget, RecognitionStats* stats) {
+  std::vector<std::pair<float, int>> by_distance;
+  by_distance.reserve(keypoints.size());
+  for (int i : keypoints)
+    by_distance.emplace_back((scene[std::size_t(i)].getVector3fMap() - query.fovea_m).squaredNorm(),
+                             i);
+  std::sort(by_distance.begin(), by_distance.end());
+  const std::size_t n = by_distance.size(), size = std::size_t(budget),
+                    step = std::max<std::size_t>(1, size / 2);
+  const std::size_t windows = (n - size + step - 1) / step + 1;
+  // Every other frame looks again where the object was lost (window 0: what reappears from
+  // behind an occluder is found there); the frames between walk outward through the others.
+  const std::size_t phase = std::size_t(std::max(0, query.search_phase));
+  const std::size_t w = phase % 2 == 0 || windows == 1 ? 0 : 1 + (phase / 2) % (windows - 1);
+  const std::size_t first = std::min(w * step, n - size);
+  std::vector<std::uint8_t> in_window(scene.size(), 0);
+  for (std::size_t k = first; k < first + size; ++k)
+    in_window[std::size_t(by_distance[k].second)] = 1;
+  std::vector<int> kept;  // in the keypoints' own order, as without a budget
+  kept.reserve(size);
+  for (int i : keypoints)
+    if (in_window[std::size_t(i)]) kept.push_back(i);
+  stats->budgeted_out = n - size;
+  stats->search_windows = static_cast<int>(windows);
+  return kept;
+}
+
 }  // namespace
 
 std::size_t RecognitionStats::TotalPoints() const {
@@ -87,6 +117,9 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
     stats.level_keypoints.push_back(kp.size());
     keypoints.insert(keypoints.end(), kp.begin(), kp.end());
   }
+  if (options.max_scene_keypoints > 0 &&
+      keypoints.size() > static_cast<std::size_t>(options.max_scene_keypoints))
+    keypoints = BudgetedWindow(scene, keypoints, query, options.max_scene_keypoints, &stats);
   stats.stage_ms.emplace_back("keypoints", MsSince(t));
 
   // 3. SHOT with its local frame, on the kept points as the search surface, and the normals

@@ -27,6 +27,8 @@ struct RecognitionStats {
   std::size_t described = 0;                 // keypoints with a valid descriptor
   std::size_t correspondences = 0;           // matches below d²_max
   std::size_t hypotheses = 0;                // instances from grouping, before verification
+  std::size_t budgeted_out = 0;  // keypoints left out by max_scene_keypoints (in level_keypoints)
+  int search_windows = 1;        // windows the budget cut the keypoints into
   /// Milliseconds per stage: foveate, normals, keypoints, describe, match, group, verify, total.
   std::vector<std::pair<std::string, double>> stage_ms;
   std::size_t TotalPoints() const;
@@ -52,6 +54,10 @@ struct SceneQuery {
   FoveaOptions fovea;
   /// Intrinsics of an organized scene; estimated from the cloud when absent.
   std::optional<CameraIntrinsics> intrinsics;
+  /// Which window of the keypoints a budgeted search describes (max_scene_keypoints): even
+  /// phases the nearest the fovea, odd ones the others in turn. The daemon passes the frames
+  /// searched since the target was lost.
+  int search_phase = 0;
 };
 
 /// Recognizes the model in the scene. Expected outcomes (no finite point, nothing found) are

@@ -27,6 +27,7 @@ bool RecognitionOptions::IsValid(std::string* error) const {
   };
   for (const auto& [name, value] : radii)
     if (!PositiveFinite(value)) return Fail(error, std::string(name) + " must be finite and > 0");
+  if (max_scene_keypoints < 0) return Fail(error, "max_scene_keypoints must be >= 0");
   if (!std::isfinite(max_described_density_m) || max_described_density_m < 0)
     return Fail(error, "max_described_density_m must be finite and >= 0");
   if (hough_threshold < 1) return Fail(error, "hough_threshold must be >= 1");

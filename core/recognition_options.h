@@ -37,6 +37,13 @@ struct RecognitionOptions {
   /// this window's point count: the histogram's shape is kept at a fraction of the cost. 0: use
   /// every pixel.
   int max_support_half_window_px = 8;
+  /// The search budget of a frame (issue 16): at most this many scene keypoints are described.
+  /// When a grown fovea has more, they are ordered by distance from the fovea's centre and the
+  /// frame describes one window of that order, the query's search_phase choosing which: every
+  /// other frame the nearest, the frames between the others in turn, outward (windows overlap
+  /// by half, so an object on a window's edge is whole in the next). 0: no budget (one frame
+  /// searches everything: the evaluation's protocols). saccaded sets 1200 (daemon/settings.h).
+  int max_scene_keypoints = 0;
   /// Correspondences vote for where the model's centroid lies (paper Algorithm 5). With this
   /// set they vote for the model frame's origin instead: right for a model whose frame is
   /// centred on the object (a ball cut around its centre), where the centroid of the seen cap
@@ -79,6 +86,7 @@ struct RecognitionOptions {
     a->Visit("pose_inlier_threshold_m", &pose_inlier_threshold_m);
     a->Visit("max_described_density_m", &max_described_density_m);
     a->Visit("max_support_half_window_px", &max_support_half_window_px);
+    a->Visit("max_scene_keypoints", &max_scene_keypoints);
     a->Visit("vote_for_model_origin", &vote_for_model_origin);
     a->Visit("match_branching", &match_branching);
     a->Visit("match_checks", &match_checks);

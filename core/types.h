@@ -45,8 +45,9 @@ struct Box {
 };
 
 /// Where a tracked object stands in a frame (instance_t's track_state; attention/tracks.h).
-/// kNone: tracking is off and the instance is recognition's alone. kTracking: refined from the
-/// last frame and the frame supports it. kLost: this frame no longer supports it (published
+/// kNone: recognition's instance, not tracked (tracking is off, max_tracks are held, or a second
+/// instance of a tracked model below tracking.min_extra_track_confidence). kTracking: refined from
+/// the last frame and the frame supports it. kLost: this frame no longer supports it (published
 /// once, at the last pose). kSearching: lost for more than one frame, attention searching.
 /// kReacquired: recognition found it this frame (first found, after a loss, or a track that
 /// slid off its object put back).
@@ -100,7 +101,8 @@ struct FrameDetections {
   Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();  // the fovea this frame was foveated at
   float growth_m = 0;                                 // G it was foveated with
   std::int64_t fixation_seq = -1;                     // the frame whose fixation was used
-  float recognize_ms = 0;                             // foveation and recognition of every model
+  float recognize_ms = 0;  // foveation and recognition of every model (0: tracked alone)
+  float track_ms = 0;      // refining every track and taking recognition's instances
   std::vector<Detection> instances;
   std::vector<std::string> models;  // the searched models' names, indexed by Detection::model
 };

@@ -53,12 +53,21 @@ struct ServiceOptions {
   }
 };
 
+/// Saccade's recognition defaults with saccaded's search budget: 1200 keypoints never cut a
+/// fovea at G = 0 on the cross-capture benchmark (protocol (a) unchanged, 171/212) and bound a
+/// grown fovea's frame near 30 ms on this machine (docs/BENCHMARKS.md).
+inline RecognitionOptions DaemonRecognitionOptions() {
+  RecognitionOptions o;
+  o.max_scene_keypoints = 1200;
+  return o;
+}
+
 struct DaemonSettings {
   std::string source = "openni2://";  // a frame source spec (docs/SOURCES.md)
   /// Model PCD files, or synthetic:target (the synthetic Kinect's target, for demos).
   std::vector<std::string> models;
   Eigen::Vector3f initial_fovea_m{0.0f, 0.0f, 1.0f};  // camera frame, before any detection
-  RecognitionOptions recognition;
+  RecognitionOptions recognition = DaemonRecognitionOptions();
   FoveaOptions fovea;  // growth_m is attention's to set: a file may not
   AttentionOptions attention;
   TrackingOptions tracking;

@@ -97,6 +97,7 @@ void RecognizeStage::Process(Job* job) {
   q.fovea = c.fovea;
   q.fovea.growth_m = Eigen::Vector3f::Constant(job->used.growth_m);
   q.intrinsics = frame.intrinsics;
+  q.search_phase = std::max(0, job->used.searched_frames - 1);
   FrameDetections& out = job->detections;
   out.seq = static_cast<std::int64_t>(frame.sequence);
   out.capture_utime = frame.capture_utime;
@@ -171,6 +172,7 @@ void TrackStage::Process(Job* job) {
   job->detections.instances =
       tracks_.Update(f, models, job->detections.instances, &job->track_events);
   job->track_ms = Ms(t0, SteadyNowNs());
+  job->detections.track_ms = static_cast<float>(job->track_ms);
 }
 
 AttendStage::AttendStage(const AttentionOptions& options, const Eigen::Vector3f& initial_fovea_m)

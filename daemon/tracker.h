@@ -1,8 +1,8 @@
 // saccaded's engine: frames from a source through foveation and recognition (in parallel; only
-// when the tracks need it), tracking, attention and publishing (serial, in frame order) in a tbb::parallel_pipeline with a bounded
-// number of frames in flight, plus the status and the commands from the bus. It is built from
-// the stages of daemon/stages.h and takes its source and bus from outside, so a test can drive
-// it frame by frame with an in-memory bus.
+// when the tracks need it), tracking, attention and publishing (serial, in frame order) in a
+// tbb::parallel_pipeline with a bounded number of frames in flight, plus the status and the
+// commands from the bus. It is built from the stages of daemon/stages.h and takes its source and
+// bus from outside, so a test can drive it frame by frame with an in-memory bus.
 #pragma once
 
 #include "daemon/settings.h"
@@ -25,7 +25,8 @@ class Tracker {
   using Done = std::function<void(bool ok, const std::string& error)>;
 
   /// Describes the models and subscribes to the bus's commands. The tracker owns `source` and
-  /// `bus`. nullptr with one line in `error` when a model fails.
+  /// `bus`; `source` may be null for a tracker driven by Process() alone (tests, bench-track).
+  /// nullptr with one line in `error` when a model fails.
   static std::unique_ptr<Tracker> Create(const DaemonSettings& settings,
                                          std::unique_ptr<FrameSource> source,
                                          std::unique_ptr<Bus> bus, Heartbeat heartbeat,

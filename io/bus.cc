@@ -84,6 +84,7 @@ class LcmBus : public Bus {
     d.growth = frame.growth_m;
     d.fixation_seq = frame.fixation_seq;
     d.recognize_ms = frame.recognize_ms;
+    d.track_ms = frame.track_ms;
     for (const Detection& r : frame.instances) {
       saccade::instance_t i;
       i.utime = frame.capture_utime;

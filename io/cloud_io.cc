@@ -2,6 +2,7 @@
 
 #include "core/fail.h"
 #include "core/sim/scenario.h"
+#include "io/frame_source.h"
 
 #include <cstdio>
 
@@ -140,6 +141,7 @@ std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error)
     }
     return name == "target" ? SyntheticTargetModel(seed) : SyntheticBallModel(seed);
   }
+  if (spec.rfind("capture:", 0) == 0) return LoadCaptureModel(spec, error);
   return LoadCloud(spec, error);
 }
 

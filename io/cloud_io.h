@@ -25,7 +25,8 @@ struct LabelledCloud {
 std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::string* error);
 
 /// A model by spec: a PCD path, or synthetic:target[?seed=N] / synthetic:ball[?seed=N] (the
-/// synthetic Kinect's target or paper-protocol ball, captured alone; seed 1 by default).
+/// synthetic Kinect's target or paper-protocol ball, captured alone; seed 1 by default), or
+/// capture:FILE.yaml[?data=DIR] (a capture sequence's object, io/frame_source.h).
 /// Errors as LoadCloud.
 std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error);
 

@@ -409,13 +409,38 @@ std::unique_ptr<FrameSource> OpenSynthetic(const SourceSpec& spec, std::string* 
   return std::make_unique<SequenceSource>(std::make_unique<ScenarioSequence>(scenario), rate, loop);
 }
 
+// The sequence file of a capture: spec and the capture it names, loaded with its object's
+// points. DIR (the data option, default ../shared/data) resolves a relative capture path.
+bool LoadCapture(const SourceSpec& spec, CaptureSequence* s, LoadedCapture* capture,
+                 std::string* error) {
+  s->name = fs::path(spec.target).stem().string();
+  if (!LoadCaptureSequence(spec.target, s, error)) return false;
+  const auto data = spec.options.find("data");
+  const std::string dir = data != spec.options.end() ? data->second : "../shared/data";
+  const std::string file = s->capture[0] == '/' ? s->capture : dir + "/" + s->capture;
+  std::optional<LabelledCloud> labelled = LoadLabelledCloud(file, error);
+  if (!labelled) return false;
+  const auto k = EstimateIntrinsics(labelled->cloud);
+  if (!k) return Fail(error, file + ": not an organized capture (no intrinsics can be estimated)");
+  capture->intrinsics = *k;
+  capture->object = MosdObjectPoints(labelled->cloud, labelled->labels, s->object);
+  if (capture->object.empty())
+    return Fail(error, file + ": no object " + std::to_string(s->object) + " (labels " +
+                           std::to_string(10 * s->object) + "-" +
+                           std::to_string(10 * s->object + 9) + ")");
+  for (int i : capture->object) capture->object_centroid += labelled->cloud[i].getVector3fMap();
+  capture->object_centroid /= static_cast<float>(capture->object.size());
+  capture->cloud = std::move(labelled->cloud);
+  return true;
+}
+
 // capture:FILE.yaml[?data=DIR&frames=N&rate=HZ&loop=0|1]: a CaptureSequence file; its capture
 // is resolved against DIR (default ../shared/data) unless absolute.
 std::unique_ptr<FrameSource> OpenCapture(const SourceSpec& spec, std::string* error) {
   if (!OnlyOptions(spec, {"rate", "loop", "frames", "data"}, error)) return nullptr;
   CaptureSequence s;
-  s.name = fs::path(spec.target).stem().string();
-  if (!LoadCaptureSequence(spec.target, &s, error)) return nullptr;
+  LoadedCapture capture;
+  if (!LoadCapture(spec, &s, &capture, error)) return nullptr;
   double rate = s.rate_hz, frames = s.frames;
   bool loop = false;
   if (!OptionNumber(spec, "rate", s.rate_hz, &rate, error) ||
@@ -428,32 +453,23 @@ std::unique_ptr<FrameSource> OpenCapture(const SourceSpec& spec, std::string* er
   }
   s.frames = static_cast<int>(frames);
   if (rate > 0) s.rate_hz = rate;
-  const auto data = spec.options.find("data");
-  const std::string dir = data != spec.options.end() ? data->second : "../shared/data";
-  const std::string file = s.capture[0] == '/' ? s.capture : dir + "/" + s.capture;
-  std::optional<LabelledCloud> labelled = LoadLabelledCloud(file, error);
-  if (!labelled) return nullptr;
-  LoadedCapture capture;
-  const auto k = EstimateIntrinsics(labelled->cloud);
-  if (!k) {
-    Fail(error, file + ": not an organized capture (no intrinsics can be estimated)");
-    return nullptr;
-  }
-  capture.intrinsics = *k;
-  capture.object = MosdObjectPoints(labelled->cloud, labelled->labels, s.object);
-  if (capture.object.empty()) {
-    Fail(error, file + ": no object " + std::to_string(s.object) + " (labels " +
-                    std::to_string(10 * s.object) + "-" + std::to_string(10 * s.object + 9) + ")");
-    return nullptr;
-  }
-  for (int i : capture.object) capture.object_centroid += labelled->cloud[i].getVector3fMap();
-  capture.object_centroid /= static_cast<float>(capture.object.size());
-  capture.cloud = std::move(labelled->cloud);
   return std::make_unique<SequenceSource>(
       std::make_unique<CaptureFrames>(std::move(s), std::move(capture)), rate, loop);
 }
 
 }  // namespace
+
+std::optional<Cloud> LoadCaptureModel(const std::string& text, std::string* error) {
+  const std::optional<SourceSpec> spec = ParseSourceSpec(text, error);
+  if (!spec) return std::nullopt;
+  if (!OnlyOptions(*spec, {"data"}, error)) return std::nullopt;
+  CaptureSequence s;
+  LoadedCapture capture;
+  if (!LoadCapture(*spec, &s, &capture, error)) return std::nullopt;
+  Cloud model;
+  for (int i : capture.object) model.push_back(capture.cloud[std::size_t(i)]);
+  return model;
+}
 
 std::optional<SourceSpec> ParseSourceSpec(const std::string& text, std::string* error) {
   SourceSpec spec;

@@ -22,6 +22,7 @@ int RunLogFixations(const std::vector<std::string>& args, std::ostream& out, std
 int RunFixations(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunSegment(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunEval(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int RunBenchTrack(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunDemo(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
 }  // namespace saccade

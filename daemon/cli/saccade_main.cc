@@ -14,6 +14,11 @@ commands:
             find the model in one scene and print each instance's pose and votes
   bench     --model M.pcd --scene S.pcd --fovea x,y,z [--truth POSE.txt] [--frames N] [--json]
             time plain (gold standard) against foveated recognition on one frame
+  bench-track --source SPEC --model M [--config FILE.yaml] [--name NAME] [--rate HZ]
+            [--tolerance-cm C] [--tolerance-deg D] [--wrong-cm W] [--frames-out F.jsonl] [--frames-out F.jsonl]
+            the tracker on a sequence with truth at the sensor's rate (frames it has no time
+            for are dropped): share of visible frames within tolerance, frames to re-acquire,
+            frames on a wrong place, costs; the last line is one JSON object
   record    --source SPEC --out DIR [--frames N] [--format pcd|depth|oni]
             capture frames (with ground truth when the source has it); SPEC is one of
             openni2://[#N|URI|SERIAL], PATH.oni[?mode=realtime|fast|step&loop=1],
@@ -56,6 +61,7 @@ int main(int argc, char** argv) {
   args.erase(args.begin());
   if (command == "recognize") return saccade::RunRecognize(args, std::cout, std::cerr);
   if (command == "bench") return saccade::RunBench(args, std::cout, std::cerr);
+  if (command == "bench-track") return saccade::RunBenchTrack(args, std::cout, std::cerr);
   if (command == "record") return saccade::RunRecord(args, std::cout, std::cerr);
   if (command == "log-fixations") return saccade::RunLogFixations(args, std::cout, std::cerr);
   if (command == "fixations") return saccade::RunFixations(args, std::cout, std::cerr);

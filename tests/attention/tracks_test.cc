@@ -74,8 +74,13 @@ TEST(TrackSet, AFoundObjectIsHeldByTrackingAloneUntilItsRecheck) {
   EXPECT_EQ(out[0].track_id, 0);
   EXPECT_FLOAT_EQ(out[0].confidence, 0.95f);  // recognition's, for what it found
   EXPECT_EQ(events, "track 0 found");
+  // Tentative: the next frame re-checks it, and recognition confirms it.
+  EXPECT_TRUE(tracks.NeedsRecognition());
+  out = tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, &events);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kTracking);
   int tracked_alone = 0;
-  for (std::int64_t seq = 1; !tracks.NeedsRecognition(); ++seq) {
+  for (std::int64_t seq = 2; !tracks.NeedsRecognition(); ++seq) {
     events.clear();
     out = tracks.Update(d.Frame(seq, d.demo.scene.cloud, false), d.Models(), {}, &events);
     ASSERT_EQ(out.size(), 1u);
@@ -88,7 +93,7 @@ TEST(TrackSet, AFoundObjectIsHeldByTrackingAloneUntilItsRecheck) {
     EXPECT_TRUE(events.empty()) << events;
     ++tracked_alone;
   }
-  // Frames 1-4 by tracking alone; frame 5 is the re-check.
+  // Frames 2-5 by tracking alone; frame 6 is the re-check.
   EXPECT_EQ(tracked_alone, 4);
 }
 
@@ -96,7 +101,7 @@ TEST(TrackSet, ATrackThatLosesItsObjectIsLostOnThatFrameThenSearchingAndKeepsIts
   const Demo& d = TheDemo();
   TrackSet tracks(TrackingOptions{});
   tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
-  tracks.Update(d.Frame(1, d.demo.scene.cloud, false), d.Models(), {}, nullptr);
+  tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
   std::string events;
   std::vector<Detection> out = tracks.Update(d.Frame(2, d.empty, false), d.Models(), {}, &events);
   ASSERT_EQ(out.size(), 1u);
@@ -146,29 +151,50 @@ TEST(TrackSet, ATrackRecognitionDoesNotConfirmIsLostAfterTheConfiguredRechecks) 
   o.unconfirmed_rechecks = 2;
   TrackSet tracks(o);
   tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
   std::vector<Detection> out =
-      tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {}, nullptr);
+      tracks.Update(d.Frame(2, d.demo.scene.cloud, true), d.Models(), {}, nullptr);
   EXPECT_EQ(out.at(0).track_state, TrackState::kTracking);  // one miss: recognition misses
   std::string events;
-  out = tracks.Update(d.Frame(2, d.demo.scene.cloud, true), d.Models(), {}, &events);
+  out = tracks.Update(d.Frame(3, d.demo.scene.cloud, true), d.Models(), {}, &events);
   EXPECT_EQ(out.at(0).track_state, TrackState::kLost);
   EXPECT_EQ(events, "track 0 lost (not confirmed by 2 re-checks)");
 }
 
-TEST(TrackSet, SecondObjectGetsItsOwnIdAndMaxTracksBoundsThem) {
+TEST(TrackSet, AJustFoundTrackThatTheNextRecheckDoesNotFindIsLost) {
+  const Demo& d = TheDemo();
+  TrackSet tracks(TrackingOptions{});
+  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  EXPECT_TRUE(tracks.NeedsRecognition());
+  std::string events;
+  const std::vector<Detection> out =
+      tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {}, &events);
+  EXPECT_EQ(out.at(0).track_state, TrackState::kLost);
+  EXPECT_EQ(events, "track 0 lost (not confirmed by 3 re-checks)");
+}
+
+TEST(TrackSet, ASecondObjectGetsItsOwnIdAndMaxTracksAndConfidenceBoundThem) {
   const Demo& d = TheDemo();
   TrackingOptions o;
   o.max_tracks = 2;
   TrackSet tracks(o);
-  Eigen::Matrix4f a = d.demo.truth.matrix(), b = a, c = a;
+  Eigen::Matrix4f a = d.demo.truth.matrix(), b = a, c = a, e = a;
   b(0, 3) += 0.3f;
   c(0, 3) -= 0.3f;
-  const std::vector<Detection> out = tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(),
-                                                   {d.Found(a), d.Found(b), d.Found(c)}, nullptr);
-  ASSERT_EQ(out.size(), 3u);
+  e(1, 3) -= 0.3f;
+  Detection unsure = d.Found(e);
+  unsure.confidence = 0.7f;  // below min_extra_track_confidence
+  const std::vector<Detection> out =
+      tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(),
+                    {d.Found(a), d.Found(b), d.Found(c), unsure}, nullptr);
+  ASSERT_EQ(out.size(), 4u);
   EXPECT_EQ(out[0].track_id, 0);
   EXPECT_EQ(out[1].track_id, 1);
-  EXPECT_EQ(out[2].track_id, -1);  // past max_tracks: published, not tracked
+  for (std::size_t k : {2u, 3u}) {  // past max_tracks, or unsure: published, not tracked
+    EXPECT_EQ(out[k].track_id, -1);
+    EXPECT_EQ(out[k].track_state, TrackState::kNone);
+  }
+  EXPECT_TRUE(out[3].centroid_m.isApprox(unsure.centroid_m));
   EXPECT_EQ(tracks.size(), 2u);
 }
 

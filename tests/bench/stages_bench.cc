@@ -45,22 +45,25 @@ void BM_FoveateIndices(benchmark::State& state) {
 }
 BENCHMARK(BM_FoveateIndices)->Unit(benchmark::kMillisecond);
 
-void BM_RecognizeFoveated(benchmark::State& state) {
-  const Fixture& f = Demo();
-  for (auto _ : state)
-    benchmark::DoNotOptimize(Recognize(*f.model, f.demo.scene.cloud, f.query, f.options));
-}
-BENCHMARK(BM_RecognizeFoveated)->Unit(benchmark::kMillisecond);
-
-// The frame a lost target makes: G grown to 0.5 m on every axis.
-void BM_RecognizeGrownFovea(benchmark::State& state) {
+// Recognition at the fovea grown by G (state.range(0), centimetres on every axis): 0 is a
+// tracking frame's fovea, the others what a lost target makes. Counters: the keypoints
+// described and the instances found.
+void BM_Recognize(benchmark::State& state) {
   const Fixture& f = Demo();
   SceneQuery q = f.query;
-  q.fovea.growth_m = Eigen::Vector3f::Constant(0.5f);
-  for (auto _ : state)
-    benchmark::DoNotOptimize(Recognize(*f.model, f.demo.scene.cloud, q, f.options));
+  q.fovea.growth_m = Eigen::Vector3f::Constant(float(state.range(0)) / 100);
+  RecognitionResult r;
+  for (auto _ : state) r = Recognize(*f.model, f.demo.scene.cloud, q, f.options);
+  state.counters["keypoints"] = double(r.stats.TotalKeypoints());
+  state.counters["instances"] = double(r.instances.size());
 }
-BENCHMARK(BM_RecognizeGrownFovea)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Recognize)
+    ->ArgName("G_cm")
+    ->Arg(0)
+    ->Arg(20)
+    ->Arg(50)
+    ->Arg(100)
+    ->Unit(benchmark::kMillisecond);
 
 // A frame of tracking: the true pose nudged 1 cm, refined against the frame.
 void BM_TrackPose(benchmark::State& state) {

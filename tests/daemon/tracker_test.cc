@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,87 @@ TEST(Tracker, ModelSwitchesAndReloadsRunOnTheControlThreadAndABadOneChangesNothi
   EXPECT_TRUE(strict_ok);
   ASSERT_TRUE(rig.Step());
   EXPECT_TRUE(rig.bus->Frames().back().frame.instances.empty());
+}
+
+}  // namespace
+}  // namespace saccade
+
+namespace saccade {
+namespace {
+
+// Every DETECTIONS message carries each track's state, and the states follow each other as
+// attention/tracks.h says, on the demo's sequence (the target slides, hides behind a screen for
+// frames 45-59 and comes out): found, held, lost within two frames of hiding, searched for,
+// re-acquired after it comes out; and the held instances are where the truth is.
+TEST(Tracker, EveryMessageCarriesTheTrackStatesInOrderThroughAnOcclusion) {
+  DaemonSettings settings = DemoSettings();
+  settings.source = "synthetic:" + kSourceDir + "/configs/demo-scenario.yaml?rate=0";
+  Rig rig(settings);
+  ASSERT_TRUE(rig.tracker);
+  std::vector<GroundTruth> truth;
+  for (;;) {
+    Frame f;
+    std::string error;
+    if (rig.frames->Next(&f, &error) != FrameSource::Status::kFrame) break;
+    truth.push_back(*f.truth);
+    rig.tracker->Process(std::move(f));
+  }
+  const auto published = rig.bus->Frames();
+  ASSERT_EQ(published.size(), 120u);
+  const auto allowed = [](TrackState from, TrackState to) {
+    switch (from) {
+      case TrackState::kReacquired:
+      case TrackState::kTracking:
+        return to == TrackState::kTracking || to == TrackState::kLost ||
+               to == TrackState::kReacquired;
+      case TrackState::kLost:
+        return to == TrackState::kSearching || to == TrackState::kReacquired;
+      case TrackState::kSearching:
+        return to == TrackState::kSearching || to == TrackState::kReacquired;
+      case TrackState::kNone:
+        return false;
+    }
+    return false;
+  };
+  std::map<int, TrackState> last;
+  int first_hidden = -1, lost_at = -1, reappeared = -1, reacquired_at = -1, held_frames = 0;
+  for (std::size_t i = 0; i < published.size(); ++i) {
+    const bool visible = truth[i].visible_fraction >= 0.2f;
+    if (!visible && first_hidden < 0 && i > 0) first_hidden = int(i);
+    if (visible && first_hidden >= 0 && reappeared < 0) reappeared = int(i);
+    for (const Detection& d : published[i].frame.instances) {
+      ASSERT_GE(d.track_id, 0) << "frame " << i;
+      ASSERT_NE(d.track_state, TrackState::kNone) << "frame " << i;
+      const auto was = last.find(d.track_id);
+      if (was == last.end())
+        EXPECT_EQ(d.track_state, TrackState::kReacquired) << "frame " << i << ": a new track";
+      else
+        EXPECT_TRUE(allowed(was->second, d.track_state))
+            << "frame " << i << " track " << d.track_id << ": " << TrackStateName(was->second)
+            << " -> " << TrackStateName(d.track_state);
+      last[d.track_id] = d.track_state;
+      if (d.track_id != 0) continue;
+      if (d.track_state == TrackState::kLost && first_hidden >= 0 && lost_at < 0) lost_at = int(i);
+      if (d.track_state == TrackState::kReacquired && reappeared >= 0 && reacquired_at < 0)
+        reacquired_at = int(i);
+      if (visible &&
+          (d.track_state == TrackState::kTracking || d.track_state == TrackState::kReacquired)) {
+        const float e =
+            (d.centroid_m -
+             truth[i].target_pose * (Eigen::Isometry3f(d.model_to_scene).inverse() * d.centroid_m))
+                .norm();
+        EXPECT_LT(e, 0.01f) << "frame " << i;
+        ++held_frames;
+      }
+    }
+  }
+  ASSERT_GT(first_hidden, 0);
+  ASSERT_GT(reappeared, first_hidden);
+  EXPECT_GE(lost_at, first_hidden);
+  EXPECT_LE(lost_at, first_hidden + 2);
+  EXPECT_GE(reacquired_at, reappeared);
+  EXPECT_LE(reacquired_at, reappeared + 3);
+  EXPECT_GT(held_frames, 90);  // of the 105 frames the target is visible
 }
 
 }  // namespace

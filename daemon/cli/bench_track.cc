@@ -1,0 +1,267 @@
+// saccade bench-track: the tracker on one sequence with exact truth, as saccaded would run it
+// at the sensor's rate on this machine. Frames arrive every 1/rate seconds; the tracker takes
+// the newest one whenever it is free (a latest-frame mailbox, as the live sources) and the
+// frames it had no time for are dropped. Each frame's cost is its measured processing time, so
+// the figures are this machine's, and a frame's rendering is not counted. Per sequence: the
+// share of visible frames tracked within the tolerance, frames from (re)appearance to
+// re-acquisition, frames held on a wrong place, and the costs; the last line is one JSON object.
+#include "core/fail.h"
+#include "core/recognition.h"
+#include "daemon/args.h"
+#include "daemon/cli/commands.h"
+#include "daemon/latency_histogram.h"
+#include "daemon/settings.h"
+#include "daemon/tracker.h"
+#include "io/cloud_io.h"
+#include "io/frame_source.h"
+#include "io/json.h"
+#include "io/log.h"
+#include "io/memory_bus.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <optional>
+#include <ostream>
+#include <utility>
+
+namespace saccade {
+namespace {
+
+// An instance a robot would act on: held by a track (or recognition's, with tracking off).
+bool Held(const Detection& d) {
+  return d.track_state == TrackState::kTracking || d.track_state == TrackState::kReacquired ||
+         d.track_state == TrackState::kNone;
+}
+
+struct Tally {
+  int frames = 0, processed = 0, visible = 0, within = 0, wrong = 0, recognized = 0;
+  int reappearances = 0, never_reacquired = 0, max_reacquire = 0;
+  LatencyHistogram track_ms, recognize_ms, frame_ms;
+};
+
+}  // namespace
+
+int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
+  Args args;
+  std::string error;
+  if (!args.Parse(argv,
+                  {"source", "model", "config", "name", "rate", "tolerance-cm", "tolerance-deg",
+                   "wrong-cm", "frames-out"},
+                  {}, &error))
+    return Usage(err, "bench-track", error);
+  if (!args.Has("source") || !args.Has("model"))
+    return Usage(err, "bench-track", "--source and --model are required");
+  const auto number = [&](const char* flag, double fallback) -> std::optional<double> {
+    if (!args.Has(flag)) return fallback;
+    const auto v = Args::ParseNumber(args.Get(flag));
+    if (!v || !(*v > 0)) return std::nullopt;
+    return v;
+  };
+  const auto rate = number("rate", 30), tol_cm = number("tolerance-cm", 1),
+             tol_deg = number("tolerance-deg", 2), wrong_cm = number("wrong-cm", 5);
+  if (!rate || !tol_cm || !tol_deg || !wrong_cm)
+    return Usage(err, "bench-track",
+                 "--rate, --tolerance-cm, --tolerance-deg and --wrong-cm expect numbers > 0");
+  DaemonSettings settings;
+  if (args.Has("config") && !LoadDaemonSettings(args.Get("config"), &settings, &error)) {
+    err << "saccade bench-track: " << error << "\n";
+    return kExitFailure;
+  }
+  settings.models = {args.Get("model")};
+  ConfigureLog("saccade bench-track", LogLevel::kWarning);
+  std::unique_ptr<FrameSource> source = OpenSource(args.Get("source"), &error);
+  if (!source) {
+    err << "saccade bench-track: " << error << "\n";
+    return kExitFailure;
+  }
+  auto bus = std::make_unique<MemoryBus>();
+  MemoryBus* published = bus.get();
+  std::unique_ptr<Tracker> tracker =
+      Tracker::Create(settings, nullptr, std::move(bus), nullptr, &error);
+  if (!tracker) {
+    err << "saccade bench-track: " << error << "\n";
+    return kExitFailure;
+  }
+  const std::optional<Cloud> model_cloud = LoadModelCloud(settings.models[0], &error);
+  if (!model_cloud) {
+    err << "saccade bench-track: " << error << "\n";
+    return kExitFailure;
+  }
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();  // the model's centroid, its frame
+  int n = 0;
+  for (const PointT& p : *model_cloud)
+    if (FinitePoint(p)) centre += p.getVector3fMap(), ++n;
+  centre /= float(std::max(n, 1));
+
+  // Each frame's outcome; frames are taken as a latest-frame mailbox would hand them over.
+  struct Outcome {
+    bool visible = false, processed = false, good = false, wrong = false;
+    double error_cm = -1, error_deg = -1;  // the held instance nearest the truth
+    std::string states, reason;
+  };
+  std::vector<Outcome> outcomes;
+  Tally t;
+  const auto process = [&](Frame f, std::size_t index) {
+    const GroundTruth truth = *f.truth;
+    const std::int64_t t0 = SteadyNowNs();
+    tracker->Process(std::move(f));
+    const double ms = (SteadyNowNs() - t0) * 1e-6;
+    t.frame_ms.Add(ms);
+    const FrameDetections d = published->Frames().back().frame;
+    t.track_ms.Add(d.track_ms);
+    if (d.recognize_ms > 0) {
+      t.recognize_ms.Add(d.recognize_ms);
+      ++t.recognized;
+    }
+    Outcome& o = outcomes[index];
+    o.processed = true;
+    o.reason = published->Frames().back().fixation.reason;
+    for (const Detection& inst : d.instances) {
+      char state[48];
+      std::snprintf(state, sizeof state, "%s%s %.2f", o.states.empty() ? "" : ", ",
+                    TrackStateName(inst.track_state), inst.confidence);
+      o.states += state;
+      if (!Held(inst)) continue;
+      const PoseError e = ComparePoses(inst.model_to_scene, truth.target_pose.matrix(), centre);
+      if (o.error_cm < 0 || e.translation_m * 100 < o.error_cm) {
+        o.error_cm = e.translation_m * 100;
+        o.error_deg = e.rotation_deg;
+      }
+      if (e.translation_m * 100 <= *tol_cm && e.rotation_deg <= *tol_deg) o.good = true;
+      if (e.translation_m * 100 > *wrong_cm) o.wrong = true;
+    }
+    return ms * 1e-3;
+  };
+  double busy_until_s = 0;  // the simulated clock: when the tracker is free again
+  std::optional<std::pair<Frame, std::size_t>> pending;  // arrived while it was busy
+  Frame frame;
+  for (std::size_t i = 0;; ++i) {
+    const FrameSource::Status st = source->Next(&frame, &error);
+    if (st == FrameSource::Status::kError) {
+      err << "saccade bench-track: " << error << "\n";
+      return kExitFailure;
+    }
+    if (st != FrameSource::Status::kFrame) break;
+    if (!frame.truth) {
+      err << "saccade bench-track: " << args.Get("source") << ": frame " << i
+          << " carries no truth\n";
+      return kExitFailure;
+    }
+    outcomes.emplace_back();
+    outcomes.back().visible = frame.truth->visible_fraction >= 0.2f;
+    const double arrival_s = double(i) / *rate;
+    if (pending && busy_until_s <= arrival_s) {  // freed before this frame came: takes the last
+      const double start = busy_until_s;
+      busy_until_s = start + process(std::move(pending->first), pending->second);
+      pending.reset();
+    }
+    if (busy_until_s <= arrival_s) {
+      busy_until_s = arrival_s + process(frame, i);
+    } else {
+      pending.emplace(frame, i);  // a frame still waiting is replaced: dropped
+    }
+  }
+  if (pending) process(std::move(pending->first), pending->second);
+
+  if (args.Has("frames-out")) {  // one JSON line per frame, for a look at what happened
+    std::ofstream log(args.Get("frames-out"));
+    for (std::size_t i = 0; i < outcomes.size(); ++i) {
+      const Outcome& o = outcomes[i];
+      JsonWriter j;
+      j.BeginObject().Key("frame").Value(i).Key("visible").Value(o.visible);
+      j.Key("processed").Value(o.processed).Key("within").Value(o.good).Key("wrong").Value(o.wrong);
+      j.Key("error_cm").Value(o.error_cm).Key("error_deg").Value(o.error_deg);
+      j.Key("states").Value(o.states).Key("reason").Value(o.reason).EndObject();
+      log << j.str() << "\n";
+    }
+    if (!log) {
+      err << "saccade bench-track: cannot write " << args.Get("frames-out") << "\n";
+      return kExitFailure;
+    }
+  }
+  bool was_visible = false;
+  int since_appeared = -1;  // visible frames since the object (re)appeared, not yet re-acquired
+  for (const Outcome& o : outcomes) {
+    ++t.frames;
+    if (o.processed) ++t.processed;
+    if (o.wrong) ++t.wrong;
+    if (o.visible) ++t.visible;
+    if (o.visible && o.good) ++t.within;
+    if (o.visible && !was_visible) {
+      ++t.reappearances;
+      since_appeared = 0;
+    }
+    was_visible = o.visible;
+    if (since_appeared < 0 || !o.visible) continue;
+    if (o.good) {
+      t.max_reacquire = std::max(t.max_reacquire, since_appeared);
+      since_appeared = -1;
+    } else {
+      ++since_appeared;
+    }
+  }
+  if (since_appeared >= 0) {  // never found again before the sequence ended
+    ++t.never_reacquired;
+    t.max_reacquire = std::max(t.max_reacquire, since_appeared);
+  }
+  const std::string name = args.Get("name", args.Get("source"));
+  const double share = t.visible > 0 ? double(t.within) / t.visible : 0;
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "%s: %d/%d visible frames within %.0f cm and %.0f deg (%.1f%%), re-acquired within "
+                "%d frames%s, %d frames on a wrong place; %d of %d frames dropped at %.0f Hz, "
+                "%d recognized; track p50 %.2f ms, frame p50 %.1f ms p99 %.1f ms",
+                name.c_str(), t.within, t.visible, *tol_cm, *tol_deg, 100 * share, t.max_reacquire,
+                t.never_reacquired ? " (once never)" : "", t.wrong, t.frames - t.processed,
+                t.frames, *rate, t.recognized, t.track_ms.Percentile(0.5),
+                t.frame_ms.Percentile(0.5), t.frame_ms.Percentile(0.99));
+  out << line << "\n";
+  JsonWriter j;
+  j.BeginObject()
+      .Key("sequence")
+      .Value(name)
+      .Key("visible_frames")
+      .Value(t.visible)
+      .Key("tracked_within_tolerance")
+      .Value(share)
+      .Key("tracked_frames")
+      .Value(t.within)
+      .Key("tolerance_cm")
+      .Value(*tol_cm)
+      .Key("tolerance_deg")
+      .Value(*tol_deg)
+      .Key("reappearances")
+      .Value(t.reappearances)
+      .Key("max_reacquire_frames")
+      .Value(t.max_reacquire)
+      .Key("never_reacquired")
+      .Value(t.never_reacquired)
+      .Key("wrong_object_frames")
+      .Value(t.wrong)
+      .Key("recognized_frames")
+      .Value(t.recognized)
+      .Key("track_ms_p50")
+      .Value(t.track_ms.Percentile(0.5))
+      .Key("track_ms_p99")
+      .Value(t.track_ms.Percentile(0.99))
+      .Key("recognize_ms_p50")
+      .Value(t.recognize_ms.Percentile(0.5))
+      .Key("recognize_ms_p99")
+      .Value(t.recognize_ms.Percentile(0.99))
+      .Key("frame_ms_p50")
+      .Value(t.frame_ms.Percentile(0.5))
+      .Key("frame_ms_p99")
+      .Value(t.frame_ms.Percentile(0.99))
+      .Key("rate_hz")
+      .Value(*rate)
+      .Key("frames_at_30hz")
+      .Value(t.frames)
+      .Key("dropped_at_30hz")
+      .Value(t.frames - t.processed)
+      .EndObject();
+  out << j.str() << "\n";
+  return kExitOk;
+}
+
+}  // namespace saccade
