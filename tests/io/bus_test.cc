@@ -77,7 +77,10 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   instance.votes = 9;
   instance.confidence = 0.875f;
   instance.colour_agreement = -1;
+  instance.track_id = 3;
+  instance.track_state = TrackState::kReacquired;
   frame.instances = {instance};
+  frame.track_ms = 0.5f;
   Fixation f;
   f.frame_seq = 7;
   f.fovea_m = Eigen::Vector3f(1, 0, 2);
@@ -106,6 +109,10 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   EXPECT_EQ(i.model_name, "m.pcd");  // the instance's model index names it
   EXPECT_FLOAT_EQ(i.confidence, 0.875f);
   EXPECT_FLOAT_EQ(i.colour_agreement, -1.0f);
+  EXPECT_EQ(i.track_id, 3);
+  EXPECT_EQ(int(i.track_state), int(saccade::instance_t::RE_ACQUIRED));
+  EXPECT_EQ(i.track_state_name, "RE-ACQUIRED");
+  EXPECT_FLOAT_EQ(got->track_ms, 0.5f);
   EXPECT_NEAR(got->fovea[2], 1.5, 1e-5);
   EXPECT_EQ(fixation->frame, "base_link");
   EXPECT_EQ(fixation->utime, 123456);  // stamped with the frame's capture time
