@@ -82,7 +82,8 @@ bool TrackSet::NeedsRecognition() const {
 void TrackSet::Refine(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
                       std::string* events) {
   TrackResult r;
-  if (FrameUsable(frame))
+  const bool usable = FrameUsable(frame);
+  if (usable)
     r = TrackPose(*models[std::size_t(t->model)].points, *frame.cloud, frame.intrinsics,
                   t->PredictedAt(frame.time_s), options_.refine);
   t->fitness = r.fitness;
@@ -90,9 +91,8 @@ void TrackSet::Refine(const TrackFrame& frame, const std::vector<TrackModel>& mo
   if (!r.tracking) {
     t->state = TrackState::kLost;
     t->lost_seq = frame.seq;
-    Say(events, FrameUsable(frame)
-                    ? Figures("lost", t->id, r.fitness, r.coverage)
-                    : "track " + std::to_string(t->id) + " lost (the frame is not organized)");
+    Say(events, usable ? Figures("lost", t->id, r.fitness, r.coverage)
+                       : "track " + std::to_string(t->id) + " lost (the frame is not organized)");
     return;
   }
   t->motion = r.model_to_camera * t->pose.inverse();

@@ -27,6 +27,8 @@ struct Fixation {
   /// Frames searched since the target was lost (or since a reset): 0 while following one. A
   /// budgeted search (RecognitionOptions::max_scene_keypoints) takes its window from it.
   int searched_frames = 0;
+  /// The budgeted search's window for the next frame (SceneQuery::search_phase).
+  int SearchPhase() const { return searched_frames > 0 ? searched_frames - 1 : 0; }
   AttentionMode mode = AttentionMode::kSearching;
   int target = -1;      // id of the followed target (stable across frames), -1 when none
   int model = -1;       // that target's model index, -1 when none

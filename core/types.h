@@ -53,6 +53,12 @@ struct Box {
 /// slid off its object put back).
 enum class TrackState { kNone = 0, kTracking = 1, kLost = 2, kSearching = 3, kReacquired = 4 };
 
+/// An instance to act on (and for attention to follow): held by a track, or recognition's
+/// untracked; not a lost track's last pose.
+inline bool Actionable(TrackState s) {
+  return s != TrackState::kLost && s != TrackState::kSearching;
+}
+
 /// "NONE", "TRACKING", "LOST", "SEARCHING" or "RE-ACQUIRED".
 inline const char* TrackStateName(TrackState s) {
   switch (s) {

@@ -97,7 +97,7 @@ void RecognizeStage::Process(Job* job) {
   q.fovea = c.fovea;
   q.fovea.growth_m = Eigen::Vector3f::Constant(job->used.growth_m);
   q.intrinsics = frame.intrinsics;
-  q.search_phase = std::max(0, job->used.searched_frames - 1);
+  q.search_phase = job->used.SearchPhase();
   FrameDetections& out = job->detections;
   out.seq = static_cast<std::int64_t>(frame.sequence);
   out.capture_utime = frame.capture_utime;
@@ -190,8 +190,7 @@ void AttendStage::Process(Job* job) {
   // Attention follows what is seen: held tracks, or recognition's instances without tracking.
   std::vector<Detection> seen;
   for (const Detection& d : job->detections.instances)
-    if (d.track_state != TrackState::kLost && d.track_state != TrackState::kSearching)
-      seen.push_back(d);
+    if (Actionable(d.track_state)) seen.push_back(d);
   std::lock_guard<std::mutex> lock(mutex_);
   Fixation f = attention_.Update(static_cast<std::int64_t>(job->frame.sequence),
                                  job->frame.capture_utime * 1e-6, seen, job->salient);

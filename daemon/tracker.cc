@@ -277,6 +277,7 @@ void Tracker::WaitForControl() { impl_->control.Flush(); }
 
 bool Tracker::Run(std::string* error) {
   Impl& s = *impl_;
+  if (!s.source) return Fail(error, "no frame source: this tracker is driven by Process()");
   Log(LogLevel::kInfo, "source " + s.source->Describe() + "; LCM " + s.bus->Describe() + "; " +
                            std::to_string(s.settings.pipeline.frames_in_flight) +
                            " frames in flight");

@@ -28,12 +28,6 @@
 namespace saccade {
 namespace {
 
-// An instance a robot would act on: held by a track (or recognition's, with tracking off).
-bool Held(const Detection& d) {
-  return d.track_state == TrackState::kTracking || d.track_state == TrackState::kReacquired ||
-         d.track_state == TrackState::kNone;
-}
-
 struct Tally {
   int frames = 0, processed = 0, visible = 0, within = 0, wrong = 0, recognized = 0;
   int reappearances = 0, never_reacquired = 0, max_reacquire = 0;
@@ -122,7 +116,7 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       std::snprintf(state, sizeof state, "%s%s %.2f", o.states.empty() ? "" : ", ",
                     TrackStateName(inst.track_state), inst.confidence);
       o.states += state;
-      if (!Held(inst)) continue;
+      if (!Actionable(inst.track_state)) continue;
       const PoseError e = ComparePoses(inst.model_to_scene, truth.target_pose.matrix(), centre);
       if (o.error_cm < 0 || e.translation_m * 100 < o.error_cm) {
         o.error_cm = e.translation_m * 100;

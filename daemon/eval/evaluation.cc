@@ -174,6 +174,7 @@ Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s, Scene
     q.fovea_m = f.fovea_m;
     q.fovea.growth_m = growth;
     q.foveated = foveated && f.mode != AttentionMode::kFullScan;  // past G_max: the whole frame
+    q.search_phase = f.SearchPhase();  // as saccaded walks a budgeted search
     const std::vector<Eigen::Vector3f> centres =
         as_trial ? first : Centres(Recognize(model, *s.frame.cloud, q, o, parallel_), s);
     std::vector<Detection> sightings;

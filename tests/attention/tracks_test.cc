@@ -5,17 +5,15 @@
 #include "attention/tracks.h"
 
 #include "core/recognition.h"
-#include "core/sim/scenario.h"
+#include "support/demo_case.h"
 
 #include <gtest/gtest.h>
 
 namespace saccade {
 namespace {
 
-struct Demo {
-  Demo() : demo(MakeDemoCase(/*seed=*/5)) {
-    std::string error;
-    model.emplace(*DescribeModel(demo.model, RecognitionOptions{}, &error));
+struct Demo : testing::DescribedDemo {
+  Demo() {
     // With the object's pixels emptied out (as when it left the view).
     empty = demo.scene.cloud;
     for (PointT& p : empty) {
@@ -50,8 +48,6 @@ struct Demo {
     f.searched_half_m = 0.25f;
     return f;
   }
-  CrossCaptureCase demo;
-  std::optional<ModelDescription> model;
   Cloud empty;
 };
 

@@ -3,7 +3,7 @@
 #include "core/tracking.h"
 
 #include "core/recognition.h"
-#include "core/sim/scenario.h"
+#include "support/demo_case.h"
 
 #include <gtest/gtest.h>
 
@@ -12,19 +12,8 @@
 namespace saccade {
 namespace {
 
-struct Demo {
-  Demo() : demo(MakeDemoCase(/*seed=*/5)) {
-    std::string error;
-    model.emplace(*DescribeModel(demo.model, RecognitionOptions{}, &error));
-  }
-  CrossCaptureCase demo;
-  std::optional<ModelDescription> model;
-};
-
-const Demo& TheDemo() {
-  static const Demo d;
-  return d;
-}
+using Demo = testing::DescribedDemo;
+const Demo& TheDemo() { return testing::TheDescribedDemo(); }
 
 TEST(TrackPose, ConvergesOntoTheTruePoseFromSeededPerturbations) {
   const Demo& d = TheDemo();
