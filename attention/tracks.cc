@@ -43,6 +43,8 @@ bool TrackingOptions::IsValid(std::string* error) const {
   if (!(same_track_m > 0)) return Fail(error, "same_track_m must be > 0");
   if (!(min_extra_track_confidence >= 0 && min_extra_track_confidence <= 1))
     return Fail(error, "min_extra_track_confidence must be in [0, 1]");
+  if (!(reacquire_radius_m >= same_track_m))
+    return Fail(error, "reacquire_radius_m must be >= same_track_m");
   if (max_tracks < 1) return Fail(error, "max_tracks must be >= 1");
   if (forget_after_frames < 1) return Fail(error, "forget_after_frames must be >= 1");
   return refine.IsValid(error);
@@ -166,6 +168,12 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
     const auto distance = [&](const Track& t, const Detection& d) {
       return (CentroidOf(t.pose, models[std::size_t(t.model)].centroid) - d.centroid_m).norm();
     };
+    // Whether instance `d` may re-acquire the lost track `t`: near its last held pose, or as
+    // confident as a second track must be.
+    const auto may_move = [&](const Track& t, const Detection& d) {
+      return distance(t, d) <= options_.reacquire_radius_m ||
+             d.confidence >= options_.min_extra_track_confidence;
+    };
     // Takes instance `d` for track i: a held track it agrees with keeps its refined pose; any
     // other starts again from recognition's pose, refined on this frame when the frame holds it.
     const auto reacquire = [&](std::size_t i, const Detection& d, const char* why) {
@@ -211,15 +219,29 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
         }
       }
     }
-    // 2. The others: a track of their model that is lost, the nearest first; then a held track
-    // recognition looked at and did not find (it slid off its object); then a new track.
+    // 2. The others. Where another model's track stands, the instance is that object seen as
+    // a look-alike: not tracked. Else a track of its model that is lost, the nearest first (far
+    // from its last held pose only a confident instance moves it: may_move). Else a held track
+    // recognition looked at and did not find: a confident instance puts it back (it slid off
+    // its object); a less confident one near it is its object at a worse pose (a can turned
+    // about its axis), which neither confirms the track nor counts against it. Else a new track.
+    std::vector<bool> ambiguous(tracks_.size(), false);
+    const auto occupied = [&](const Detection& d) {
+      return std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) {
+        return t.model != d.model && Held(t) && distance(t, d) <= options_.same_track_m;
+      });
+    };
     for (std::size_t k : order) {
       if (used[k]) continue;
       const Detection& d = recognized[k];
+      if (occupied(d)) {
+        out.push_back(d);  // published as recognition found it, not tracked (state NONE)
+        continue;
+      }
       std::size_t best = tracks_.size();
       for (std::size_t i = 0; i < tracks_.size(); ++i) {
         const Track& t = tracks_[i];
-        if (t.model != d.model || taken[i] || Held(t)) continue;
+        if (t.model != d.model || taken[i] || Held(t) || !may_move(t, d)) continue;
         if (best == tracks_.size() || distance(t, d) < distance(tracks_[best], d)) best = i;
       }
       if (best < tracks_.size()) {
@@ -230,11 +252,15 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       for (std::size_t i = 0; i < tracks_.size() && !used[k]; ++i) {
         const Track& t = tracks_[i];
         if (t.model != d.model || taken[i] || !Held(t) || !inside_search(t)) continue;
-        char why[96];
-        std::snprintf(why, sizeof why, "put back by recognition (%.1f cm off)",
-                      100.0f * distance(t, d));
-        reacquire(i, d, why);
-        used[k] = true;
+        if (d.confidence >= options_.min_extra_track_confidence) {
+          char why[96];
+          std::snprintf(why, sizeof why, "put back by recognition (%.1f cm off)",
+                        100.0f * distance(t, d));
+          reacquire(i, d, why);
+          used[k] = true;
+        } else if (distance(t, d) <= options_.reacquire_radius_m) {
+          ambiguous[i] = true;
+        }
       }
       if (used[k]) continue;
       const bool model_tracked = std::any_of(tracks_.begin(), tracks_.end(),
@@ -249,15 +275,17 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       t.model = d.model;
       tracks_.push_back(t);
       taken.push_back(false);
+      ambiguous.push_back(false);
       reacquire(tracks_.size() - 1, d, "found");
       used[k] = true;
     }
-    // 3. Held tracks recognition looked at and did not find, and the re-check clock.
+    // 3. Held tracks recognition looked at (inside where it searched: a track outside stays
+    // due, and is re-checked when the fovea visits it) and did not find.
     for (std::size_t i = 0; i < tracks_.size(); ++i) {
       Track& t = tracks_[i];
-      if (!Held(t) || taken[i]) continue;
+      if (!Held(t) || taken[i] || !inside_search(t)) continue;
       t.frames_since_check = 0;
-      if (!inside_search(t)) continue;
+      if (ambiguous[i]) continue;
       if (++t.unconfirmed >= options_.unconfirmed_rechecks) {
         t.state = TrackState::kLost;
         t.lost_seq = frame.seq;

@@ -43,6 +43,11 @@ struct TrackingOptions {
   /// docs/RESULTS.md): one object per model is the common case, and a look-alike the usual
   /// false instance.
   float min_extra_track_confidence = 0.9f;
+  /// A lost track is re-acquired, and a held one put back, by an instance farther than this
+  /// from its last held pose only at min_extra_track_confidence: while the object hides, a
+  /// look-alike elsewhere in the view is the usual false instance, and recognition finds it
+  /// again at every search (an object that comes back comes back near where it was lost).
+  float reacquire_radius_m = 0.1f;
   int max_tracks = 4;  // tracks kept at once; a new object past this is not tracked
   /// A track searched for this many frames is forgotten (its id is not reused).
   int forget_after_frames = 300;
@@ -60,6 +65,7 @@ struct TrackingOptions {
     a->Visit("unconfirmed_rechecks", &unconfirmed_rechecks);
     a->Visit("same_track_m", &same_track_m);
     a->Visit("min_extra_track_confidence", &min_extra_track_confidence);
+    a->Visit("reacquire_radius_m", &reacquire_radius_m);
     a->Visit("max_tracks", &max_tracks);
     a->Visit("forget_after_frames", &forget_after_frames);
     refine.Serialize(a);

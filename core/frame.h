@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace saccade {
 
@@ -18,6 +19,14 @@ struct GroundTruth {
   Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();  // centre of the target's bounding box
   /// Visible target pixels over those it covers rendered alone (0 when out of view).
   float visible_fraction = 0.0f;
+  /// Further objects of the frame, as the target above (a capture sequence's `others`, in that
+  /// order); centroid_m of these is the centroid of their points.
+  struct Object {
+    Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();  // X_CO
+    Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();
+    float visible_fraction = 0.0f;
+  };
+  std::vector<Object> others;
 };
 
 /// One depth frame. The cloud is organized, in the camera optical frame, in metres; pixels

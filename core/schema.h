@@ -67,9 +67,10 @@ class FingerprintArchive {
     Add(s.size());
     bytes_ += s;
   }
-  void Add(const std::vector<std::string>& list) {
+  template <typename T>
+  void Add(const std::vector<T>& list) {
     Add(list.size());
-    for (const std::string& s : list) Add(s);
+    for (const T& v : list) Add(v);
   }
   std::string bytes_;
 };

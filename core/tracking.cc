@@ -96,6 +96,11 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
     }
     result.iterations = it + 1;
     if (used < 6) break;
+    // A little damping per pair (Levenberg's): a motion the surface does not constrain (a
+    // can's turn about its own axis, a plane's slide along itself) has a near-zero pivot, and
+    // undamped it would take any value, spin the pose about the can and carry the spin into the
+    // next prediction. Constrained directions weigh ~0.1-1 m^2 per pair: 1e-4 leaves them be.
+    JtJ.diagonal().array() += 1e-4 * used;
     const Eigen::Matrix<double, 6, 1> x = JtJ.ldlt().solve(-Jte);
     if (!x.allFinite()) break;
     const Eigen::Vector3d w = x.head<3>();

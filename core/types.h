@@ -45,18 +45,21 @@ struct Box {
 };
 
 /// Where a tracked object stands in a frame (instance_t's track_state; attention/tracks.h).
-/// kNone: recognition's instance, not tracked (tracking is off, max_tracks are held, or a second
-/// instance of a tracked model below tracking.min_extra_track_confidence). kTracking: refined from
+/// kNone: recognition's instance, not tracked (tracking is off, max_tracks are held, a second
+/// instance of a tracked model below tracking.min_extra_track_confidence, or one far from where
+/// its model's track was lost: tracking.reacquire_radius_m). kTracking: refined from
 /// the last frame and the frame supports it. kLost: this frame no longer supports it (published
 /// once, at the last pose). kSearching: lost for more than one frame, attention searching.
 /// kReacquired: recognition found it this frame (first found, after a loss, or a track that
 /// slid off its object put back).
 enum class TrackState { kNone = 0, kTracking = 1, kLost = 2, kSearching = 3, kReacquired = 4 };
 
-/// An instance to act on (and for attention to follow): held by a track, or recognition's
-/// untracked; not a lost track's last pose.
-inline bool Actionable(TrackState s) {
-  return s != TrackState::kLost && s != TrackState::kSearching;
+/// An instance to act on (and for attention to follow): with `tracking` on, one a track holds
+/// (not a lost track's last pose, nor an instance the tracks declined: a look-alike); with it
+/// off, every instance recognition found.
+inline bool Actionable(TrackState s, bool tracking) {
+  return tracking ? s == TrackState::kTracking || s == TrackState::kReacquired
+                  : s != TrackState::kLost && s != TrackState::kSearching;
 }
 
 /// "NONE", "TRACKING", "LOST", "SEARCHING" or "RE-ACQUIRED".

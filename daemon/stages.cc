@@ -188,9 +188,10 @@ Fixation AttendStage::Current() const {
 void AttendStage::Process(Job* job) {
   const std::int64_t t0 = SteadyNowNs();
   // Attention follows what is seen: held tracks, or recognition's instances without tracking.
+  const bool tracking = job->config && job->config->tracking.enabled;
   std::vector<Detection> seen;
   for (const Detection& d : job->detections.instances)
-    if (Actionable(d.track_state)) seen.push_back(d);
+    if (Actionable(d.track_state, tracking)) seen.push_back(d);
   std::lock_guard<std::mutex> lock(mutex_);
   Fixation f = attention_.Update(static_cast<std::int64_t>(job->frame.sequence),
                                  job->frame.capture_utime * 1e-6, seen, job->salient);

@@ -229,6 +229,27 @@ bool LoadCaptureSequence(const std::string& path, CaptureSequence* sequence, std
   return true;
 }
 
+namespace {
+
+// A list of `what`s, or one alone.
+template <typename T>
+Setter ListOf(std::vector<T>* f, const std::string& what) {
+  return [f, what](const YAML::Node& n) {
+    if (n.IsScalar()) {
+      *f = {n.as<T>()};
+      return;
+    }
+    if (!n.IsSequence()) throw YAML::Exception(n.Mark(), "expected " + what + " or a list");
+    f->clear();
+    for (const auto& item : n) {
+      if (!item.IsScalar()) throw YAML::Exception(item.Mark(), "expected " + what);
+      f->push_back(item.as<T>());
+    }
+  };
+}
+
+}  // namespace
+
 ConfigKeys& ConfigKeys::Add(const std::string& key, Setter setter) {
   setters[key] = std::move(setter);
   return *this;
@@ -249,18 +270,10 @@ ConfigKeys& ConfigKeys::Add(const std::string& key, Eigen::Quaternionf* f) {
   return Add(key, Quaternion(f));
 }
 ConfigKeys& ConfigKeys::Add(const std::string& key, std::vector<std::string>* f) {
-  return Add(key, [f](const YAML::Node& n) {
-    if (n.IsScalar()) {
-      *f = {n.as<std::string>()};
-      return;
-    }
-    if (!n.IsSequence()) throw YAML::Exception(n.Mark(), "expected a string or a list of strings");
-    f->clear();
-    for (const auto& item : n) {
-      if (!item.IsScalar()) throw YAML::Exception(item.Mark(), "expected a string");
-      f->push_back(item.as<std::string>());
-    }
-  });
+  return Add(key, ListOf(f, "a string"));
+}
+ConfigKeys& ConfigKeys::Add(const std::string& key, std::vector<int>* f) {
+  return Add(key, ListOf(f, "a number"));
 }
 ConfigKeys& ConfigKeys::AddChoice(const std::string& key, const std::vector<std::string>& names,
                                   std::function<void(int)> set) {

@@ -37,6 +37,7 @@ struct ConfigKeys {
   ConfigKeys& Add(const std::string& key, Eigen::Vector3f* field);           // [x, y, z]
   ConfigKeys& Add(const std::string& key, Eigen::Quaternionf* field);        // [w, x, y, z]
   ConfigKeys& Add(const std::string& key, std::vector<std::string>* field);  // a list, or one
+  ConfigKeys& Add(const std::string& key, std::vector<int>* field);          // a list, or one
   /// One of `names`; `set` gets the index of the name.
   ConfigKeys& AddChoice(const std::string& key, const std::vector<std::string>& names,
                         std::function<void(int)> set);

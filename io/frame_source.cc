@@ -423,13 +423,23 @@ bool LoadCapture(const SourceSpec& spec, CaptureSequence* s, LoadedCapture* capt
   const auto k = EstimateIntrinsics(labelled->cloud);
   if (!k) return Fail(error, file + ": not an organized capture (no intrinsics can be estimated)");
   capture->intrinsics = *k;
-  capture->object = MosdObjectPoints(labelled->cloud, labelled->labels, s->object);
-  if (capture->object.empty())
-    return Fail(error, file + ": no object " + std::to_string(s->object) + " (labels " +
-                           std::to_string(10 * s->object) + "-" +
-                           std::to_string(10 * s->object + 9) + ")");
-  for (int i : capture->object) capture->object_centroid += labelled->cloud[i].getVector3fMap();
-  capture->object_centroid /= static_cast<float>(capture->object.size());
+  // The object's points and centroid, or a one-line error naming the file and the object.
+  const auto points_of = [&](int object, std::vector<int>* points, Eigen::Vector3f* centroid) {
+    *points = MosdObjectPoints(labelled->cloud, labelled->labels, object);
+    if (points->empty())
+      return Fail(error, file + ": no object " + std::to_string(object) + " (labels " +
+                             std::to_string(10 * object) + "-" + std::to_string(10 * object + 9) +
+                             ")");
+    *centroid = Eigen::Vector3f::Zero();
+    for (int i : *points) *centroid += labelled->cloud[std::size_t(i)].getVector3fMap();
+    *centroid /= static_cast<float>(points->size());
+    return true;
+  };
+  if (!points_of(s->object, &capture->object, &capture->object_centroid)) return false;
+  capture->others.resize(s->others.size());
+  capture->other_centroids.resize(s->others.size());
+  for (std::size_t j = 0; j < s->others.size(); ++j)
+    if (!points_of(s->others[j], &capture->others[j], &capture->other_centroids[j])) return false;
   capture->cloud = std::move(labelled->cloud);
   return true;
 }
@@ -462,12 +472,22 @@ std::unique_ptr<FrameSource> OpenCapture(const SourceSpec& spec, std::string* er
 std::optional<Cloud> LoadCaptureModel(const std::string& text, std::string* error) {
   const std::optional<SourceSpec> spec = ParseSourceSpec(text, error);
   if (!spec) return std::nullopt;
-  if (!OnlyOptions(*spec, {"data"}, error)) return std::nullopt;
+  if (!OnlyOptions(*spec, {"data", "object"}, error)) return std::nullopt;
   CaptureSequence s;
   LoadedCapture capture;
   if (!LoadCapture(*spec, &s, &capture, error)) return std::nullopt;
+  double object = s.object;
+  if (!OptionNumber(*spec, "object", s.object, &object, error)) return std::nullopt;
+  const std::vector<int>* points = object == s.object ? &capture.object : nullptr;
+  for (std::size_t j = 0; j < s.others.size(); ++j)
+    if (object == s.others[j]) points = &capture.others[j];
+  if (!points) {
+    Fail(error, "model '" + text + "': object " + spec->options.at("object") +
+                    " is neither the sequence's object nor one of its others");
+    return std::nullopt;
+  }
   Cloud model;
-  for (int i : capture.object) model.push_back(capture.cloud[std::size_t(i)]);
+  for (int i : *points) model.push_back(capture.cloud[std::size_t(i)]);
   return model;
 }
 

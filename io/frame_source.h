@@ -64,8 +64,9 @@ struct SourceSpec {
 };
 std::optional<SourceSpec> ParseSourceSpec(const std::string& spec, std::string* error);
 
-/// capture:FILE.yaml[?data=DIR]: the labelled object of a capture sequence's capture, in the
-/// capture's frame (what `saccade segment` cuts from it; the sequence's truth X_CO places it).
+/// capture:FILE.yaml[?data=DIR&object=K]: the labelled object of a capture sequence's capture
+/// (or K, one of its others), in the capture's frame (what `saccade segment` cuts from it; the
+/// sequence's truth X_CO places it).
 std::optional<Cloud> LoadCaptureModel(const std::string& spec, std::string* error);
 
 }  // namespace saccade

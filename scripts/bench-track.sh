@@ -3,7 +3,8 @@
 # sequence, at 30 Hz on this machine (a frame the tracker has no time for is dropped). The
 # synthetic Kinect's sequences are scored within 1 cm and 2 degrees; the real-data sequences
 # of configs/sequences (re-rendered mOSD captures, needs ../shared/data) within 2 cm and 5
-# degrees. Prints one line per sequence, then one JSON object per sequence.
+# degrees. A sequence with others is run twice, its object alone and every object at once (the
+# cost of tracking several). Prints one line per sequence, then one JSON object per sequence.
 set -euo pipefail
 build=${1:-build}
 data=${SACCADE_DATA:-../shared/data}
@@ -23,10 +24,19 @@ run demo "synthetic:configs/demo-scenario.yaml?rate=0" synthetic:target 1 2
 for preset in static linear circular occluded leave-return; do
   run "synthetic-$preset" "synthetic:$preset?rate=0" synthetic:target 1 2
 done
-# Real data, re-rendered: each sequence's model is its capture's labelled object.
+# Real data, re-rendered: each sequence's models are its capture's labelled object and its
+# others (every object it carries the truth of), tracked at once.
 if [ -d "$data/mosd_xcap" ]; then
   for f in configs/sequences/*.yaml; do
-    run "$(basename "$f" .yaml)" "capture:$f?rate=0&data=$data" "capture:$f?data=$data" 2 5
+    name=$(basename "$f" .yaml)
+    models="capture:$f?data=$data"
+    for k in $(sed -n 's/^others: *\[\(.*\)\].*/\1/p' "$f" | tr ',' ' '); do
+      models="$models,capture:$f?data=$data&object=$k"
+    done
+    if [ "$models" != "capture:$f?data=$data" ]; then  # the same frames, one object tracked
+      run "$name-one-tracked" "capture:$f?rate=0&data=$data" "capture:$f?data=$data" 2 5
+    fi
+    run "$name" "capture:$f?rate=0&data=$data" "$models" 2 5
   done
 else
   echo "($data/mosd_xcap not found: the real-data sequences are skipped)"

@@ -22,16 +22,22 @@ Cloud RerenderCapture(const Cloud& world, const CameraIntrinsics& k, const Reren
   }
   std::vector<float> depth(out.size(), std::numeric_limits<float>::infinity());
   if (labels) labels->assign(out.size(), 0);
-  std::vector<std::uint8_t> moving(world.size(), 0);
-  for (int i : pose.object)
-    if (i >= 0 && static_cast<std::size_t>(i) < world.size())
-      moving[static_cast<std::size_t>(i)] = 1;
+  // Per capture point: 1 the moving object's, 2 + j others[j]'s, 0 the rest.
+  std::vector<std::uint8_t> tag(world.size(), 0);
+  const auto mark = [&](const std::vector<int>& indices, std::uint8_t value) {
+    for (int i : indices)
+      if (i >= 0 && static_cast<std::size_t>(i) < world.size())
+        tag[static_cast<std::size_t>(i)] = value;
+  };
+  for (std::size_t j = 0; j < pose.others.size() && j < 253; ++j)
+    mark(pose.others[j], static_cast<std::uint8_t>(2 + j));
+  mark(pose.object, 1);
   const Eigen::Isometry3f X_CW = pose.X_WC.inverse();
   const Eigen::Isometry3f X_CW_moved = X_CW * pose.object_motion_W;
   for (std::size_t i = 0; i < world.size(); ++i) {
     const PointT& w = world[i];
     if (!FinitePoint(w) || !(w.z > 0)) continue;
-    const Eigen::Vector3f p = (moving[i] ? X_CW_moved : X_CW) * w.getVector3fMap();
+    const Eigen::Vector3f p = (tag[i] == 1 ? X_CW_moved : X_CW) * w.getVector3fMap();
     if (!(p.z() > 0.05f)) continue;
     const Eigen::Vector2d uv = k.Project(p);
     // The capture's pixel at depth w.z covers (w.z / p.z) pixels at the new depth: one pixel
@@ -51,7 +57,7 @@ Cloud RerenderCapture(const Cloud& world, const CameraIntrinsics& k, const Reren
         // camera, as a depth sensor would report it.
         o.getVector3fMap() = k.Unproject(u, v, p.z());
         o.r = w.r, o.g = w.g, o.b = w.b, o.a = w.a;
-        if (labels) (*labels)[j] = moving[i];
+        if (labels) (*labels)[j] = tag[i];
       }
   }
   return out;
@@ -96,6 +102,8 @@ void PlaceOccluder(const CaptureSequence& s, const CameraIntrinsics& k,
 bool CaptureSequence::IsValid(std::string* error) const {
   if (capture.empty()) return Fail(error, "capture: a labelled PCD file is required");
   if (object < 1) return Fail(error, "object must be >= 1");
+  for (int o : others)
+    if (o < 1 || o == object) return Fail(error, "others must be objects >= 1 other than object");
   if (frames < 1) return Fail(error, "frames must be >= 1");
   if (!(rate_hz > 0) || !std::isfinite(rate_hz)) return Fail(error, "rate_hz must be > 0");
   if (occluded_frames < 0) return Fail(error, "occluded_frames must be >= 0");
@@ -122,6 +130,7 @@ CaptureFrame RenderCaptureFrame(const CaptureSequence& sequence, const LoadedCap
   RerenderPose pose;
   pose.X_WC = PlanarPose(sequence.camera_motion, f.time_s);
   pose.object = capture.object;
+  pose.others = capture.others;
   const Eigen::Vector3f& c = capture.object_centroid;
   pose.object_motion_W = Eigen::Translation3f(c) * PlanarPose(sequence.object_motion, f.time_s) *
                          Eigen::Translation3f(-c);
@@ -132,10 +141,22 @@ CaptureFrame RenderCaptureFrame(const CaptureSequence& sequence, const LoadedCap
   f.truth.centroid_m = X_CO * c;
   if (index >= sequence.occluded_from && index < sequence.occluded_from + sequence.occluded_frames)
     PlaceOccluder(sequence, capture.intrinsics, f.truth.centroid_m, &f.cloud, &labels);
-  std::size_t seen = 0;
-  for (std::uint8_t l : labels) seen += l;
-  f.truth.visible_fraction =
-      capture.object.empty() ? 0.0f : std::min(1.0f, float(seen) / float(capture.object.size()));
+  // Visible share: the pixels each object won over its points in the capture.
+  std::vector<std::size_t> seen(2 + capture.others.size(), 0);
+  for (std::uint8_t l : labels)
+    if (l < seen.size()) ++seen[l];
+  const auto share = [](std::size_t won, std::size_t points) {
+    return points == 0 ? 0.0f : std::min(1.0f, float(won) / float(points));
+  };
+  f.truth.visible_fraction = share(seen[1], capture.object.size());
+  const Eigen::Isometry3f X_CW = pose.X_WC.inverse();
+  for (std::size_t j = 0; j < capture.others.size(); ++j) {
+    GroundTruth::Object o;
+    o.pose = X_CW;
+    o.centroid_m = X_CW * capture.other_centroids[j];
+    o.visible_fraction = share(seen[2 + j], capture.others[j].size());
+    f.truth.others.push_back(o);
+  }
   return f;
 }
 

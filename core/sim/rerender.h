@@ -25,13 +25,17 @@ struct RerenderPose {
   /// them in W (identity: the object stays where it was captured).
   std::vector<int> object;
   Eigen::Isometry3f object_motion_W = Eigen::Isometry3f::Identity();
+  /// Further objects' point indices, which stay where they were captured: `labels` marks
+  /// their pixels 2 + j for others[j].
+  std::vector<std::vector<int>> others;
 };
 
 /// Renders the capture `world` (an organized frame, camera frame W = its own) as the camera at
 /// pose.X_WC with intrinsics `k` sees it: each finite point is splatted over the pixels its
 /// capture footprint covers at its new depth (one pixel at the captured depth, more when the
 /// camera came nearer), the nearest point winning each pixel. `labels`, when given, gets per
-/// pixel 1 where the object's points won and 0 elsewhere. Pixels nothing reaches are NaN.
+/// pixel 1 where the object's points won, 2 + j where others[j]'s did, and 0 elsewhere. Pixels
+/// nothing reaches are NaN.
 Cloud RerenderCapture(const Cloud& world, const CameraIntrinsics& k, const RerenderPose& pose,
                       std::vector<std::uint8_t>* labels = nullptr);
 
@@ -42,6 +46,9 @@ struct CaptureSequence {
   std::string name;
   std::string capture;  // a labelled PCD (mOSD), relative to the data folder
   int object = 1;       // mOSD object k: labels 10k..10k+9
+  /// Further mOSD objects, staying where they were captured, whose truth every frame carries
+  /// too (GroundTruth::others, in this order): sequences with several objects to track.
+  std::vector<int> others;
   int frames = 90;
   double rate_hz = 30.0;
   Trajectory camera_motion;
@@ -61,6 +68,7 @@ struct CaptureSequence {
     a->Visit("name", &name);
     a->Visit("capture", &capture);
     a->Visit("object", &object);
+    a->Visit("others", &others);
     a->Visit("frames", &frames);
     a->Visit("rate_hz", &rate_hz);
     a->Visit("occluded_from", &occluded_from);
@@ -78,6 +86,8 @@ struct LoadedCapture {
   CameraIntrinsics intrinsics;
   std::vector<int> object;                                    // indices of the object's points
   Eigen::Vector3f object_centroid = Eigen::Vector3f::Zero();  // capture frame
+  std::vector<std::vector<int>> others;  // the sequence's further objects' point indices
+  std::vector<Eigen::Vector3f> other_centroids;  // and their centroids, capture frame
 };
 
 /// The indices of mOSD object k's finite points (labels 10k..10k+9) in a labelled capture.
@@ -86,7 +96,8 @@ std::vector<int> MosdObjectPoints(const Cloud& cloud, const std::vector<std::uin
 
 /// Frame `index` of the sequence: the capture seen from the camera at that time, with the
 /// object moved, and the truth: X_CO of the object (O: the capture's camera frame, in which a
-/// model cut from the capture is expressed), its centroid and its visible share.
+/// model cut from the capture is expressed), its centroid and its visible share; the same for
+/// each of the sequence's others.
 struct CaptureFrame {
   Cloud cloud;
   GroundTruth truth;

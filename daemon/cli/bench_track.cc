@@ -5,6 +5,8 @@
 // the figures are this machine's, and a frame's rendering is not counted. Per sequence: the
 // share of visible frames tracked within the tolerance, frames from (re)appearance to
 // re-acquisition, frames held on a wrong place, and the costs; the last line is one JSON object.
+// Several models (--model A,B,...) are scored each against its own truth: the sequence's
+// target, then its others.
 #include "core/fail.h"
 #include "core/recognition.h"
 #include "daemon/args.h"
@@ -62,7 +64,8 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
     err << "saccade bench-track: " << error << "\n";
     return kExitFailure;
   }
-  settings.models = {args.Get("model")};
+  // Model j is scored against the frame's truth j: the target, then the sequence's others.
+  settings.models = Args::ParseList(args.Get("model"));
   ConfigureLog("saccade bench-track", LogLevel::kWarning);
   std::unique_ptr<FrameSource> source = OpenSource(args.Get("source"), &error);
   if (!source) {
@@ -77,22 +80,31 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
     err << "saccade bench-track: " << error << "\n";
     return kExitFailure;
   }
-  const std::optional<Cloud> model_cloud = LoadModelCloud(settings.models[0], &error);
-  if (!model_cloud) {
-    err << "saccade bench-track: " << error << "\n";
-    return kExitFailure;
+  std::vector<Eigen::Vector3f> centres;  // each model's centroid, its frame
+  for (const std::string& spec : settings.models) {
+    const std::optional<Cloud> model_cloud = LoadModelCloud(spec, &error);
+    if (!model_cloud) {
+      err << "saccade bench-track: " << error << "\n";
+      return kExitFailure;
+    }
+    centres.push_back(FiniteCentroid(*model_cloud).value_or(Eigen::Vector3f::Zero()));
   }
-  Eigen::Vector3f centre = Eigen::Vector3f::Zero();  // the model's centroid, its frame
-  int n = 0;
-  for (const PointT& p : *model_cloud)
-    if (FinitePoint(p)) centre += p.getVector3fMap(), ++n;
-  centre /= float(std::max(n, 1));
+  const std::size_t objects = centres.size();
 
-  // Each frame's outcome; frames are taken as a latest-frame mailbox would hand them over.
-  struct Outcome {
-    bool visible = false, processed = false, good = false, wrong = false;
+  // Each frame's outcome per object; frames are taken as a latest-frame mailbox would hand
+  // them over.
+  struct ObjectOutcome {
+    bool visible = false, good = false, wrong = false;
     double error_cm = -1, error_deg = -1;  // the held instance nearest the truth
+  };
+  struct Outcome {
+    bool processed = false;
+    std::vector<ObjectOutcome> objects;
     std::string states, reason;
+  };
+  const auto truth_of = [](const GroundTruth& g, std::size_t j) {
+    return j == 0 ? GroundTruth::Object{g.target_pose, g.centroid_m, g.visible_fraction}
+                  : g.others[j - 1];
   };
   std::vector<Outcome> outcomes;
   Tally t;
@@ -116,14 +128,17 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       std::snprintf(state, sizeof state, "%s%s %.2f", o.states.empty() ? "" : ", ",
                     TrackStateName(inst.track_state), inst.confidence);
       o.states += state;
-      if (!Actionable(inst.track_state)) continue;
-      const PoseError e = ComparePoses(inst.model_to_scene, truth.target_pose.matrix(), centre);
-      if (o.error_cm < 0 || e.translation_m * 100 < o.error_cm) {
-        o.error_cm = e.translation_m * 100;
-        o.error_deg = e.rotation_deg;
+      if (!Actionable(inst.track_state, settings.tracking.enabled)) continue;
+      const std::size_t j = static_cast<std::size_t>(inst.model);
+      ObjectOutcome& oo = o.objects[j];
+      const PoseError e = ComparePoses(inst.model_to_scene, truth_of(truth, j).pose.matrix(),
+                                       centres[j]);
+      if (oo.error_cm < 0 || e.translation_m * 100 < oo.error_cm) {
+        oo.error_cm = e.translation_m * 100;
+        oo.error_deg = e.rotation_deg;
       }
-      if (e.translation_m * 100 <= *tol_cm && e.rotation_deg <= *tol_deg) o.good = true;
-      if (e.translation_m * 100 > *wrong_cm) o.wrong = true;
+      if (e.translation_m * 100 <= *tol_cm && e.rotation_deg <= *tol_deg) oo.good = true;
+      if (e.translation_m * 100 > *wrong_cm) oo.wrong = true;
     }
     return ms * 1e-3;
   };
@@ -142,8 +157,15 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
           << " carries no truth\n";
       return kExitFailure;
     }
+    if (frame.truth->others.size() + 1 < objects) {
+      err << "saccade bench-track: " << args.Get("source") << ": frame " << i << " carries the truth of "
+          << frame.truth->others.size() + 1 << " objects, " << objects << " models given\n";
+      return kExitFailure;
+    }
     outcomes.emplace_back();
-    outcomes.back().visible = frame.truth->visible_fraction >= 0.2f;
+    outcomes.back().objects.resize(objects);
+    for (std::size_t j = 0; j < objects; ++j)
+      outcomes.back().objects[j].visible = truth_of(*frame.truth, j).visible_fraction >= 0.2f;
     const double arrival_s = double(i) / *rate;
     if (pending && busy_until_s <= arrival_s) {  // freed before this frame came: takes the last
       const double start = busy_until_s;
@@ -163,10 +185,14 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
       const Outcome& o = outcomes[i];
       JsonWriter j;
-      j.BeginObject().Key("frame").Value(i).Key("visible").Value(o.visible);
-      j.Key("processed").Value(o.processed).Key("within").Value(o.good).Key("wrong").Value(o.wrong);
-      j.Key("error_cm").Value(o.error_cm).Key("error_deg").Value(o.error_deg);
-      j.Key("states").Value(o.states).Key("reason").Value(o.reason).EndObject();
+      j.BeginObject().Key("frame").Value(i).Key("processed").Value(o.processed);
+      j.Key("objects").BeginArray();
+      for (const ObjectOutcome& oo : o.objects) {
+        j.BeginObject().Key("visible").Value(oo.visible).Key("within").Value(oo.good);
+        j.Key("wrong").Value(oo.wrong).Key("error_cm").Value(oo.error_cm);
+        j.Key("error_deg").Value(oo.error_deg).EndObject();
+      }
+      j.EndArray().Key("states").Value(o.states).Key("reason").Value(o.reason).EndObject();
       log << j.str() << "\n";
     }
     if (!log) {
@@ -174,30 +200,38 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       return kExitFailure;
     }
   }
-  bool was_visible = false;
-  int since_appeared = -1;  // visible frames since the object (re)appeared, not yet re-acquired
+  // Visible frames count once per object; re-acquisition is each object's own.
   for (const Outcome& o : outcomes) {
     ++t.frames;
     if (o.processed) ++t.processed;
-    if (o.wrong) ++t.wrong;
-    if (o.visible) ++t.visible;
-    if (o.visible && o.good) ++t.within;
-    if (o.visible && !was_visible) {
-      ++t.reappearances;
-      since_appeared = 0;
-    }
-    was_visible = o.visible;
-    if (since_appeared < 0 || !o.visible) continue;
-    if (o.good) {
-      t.max_reacquire = std::max(t.max_reacquire, since_appeared);
-      since_appeared = -1;
-    } else {
-      ++since_appeared;
-    }
+    if (std::any_of(o.objects.begin(), o.objects.end(),
+                    [](const ObjectOutcome& oo) { return oo.wrong; }))
+      ++t.wrong;
   }
-  if (since_appeared >= 0) {  // never found again before the sequence ended
-    ++t.never_reacquired;
-    t.max_reacquire = std::max(t.max_reacquire, since_appeared);
+  for (std::size_t j = 0; j < objects; ++j) {
+    bool was_visible = false;
+    int since_appeared = -1;  // visible frames since it (re)appeared, not yet re-acquired
+    for (const Outcome& o : outcomes) {
+      const ObjectOutcome& oo = o.objects[j];
+      if (oo.visible) ++t.visible;
+      if (oo.visible && oo.good) ++t.within;
+      if (oo.visible && !was_visible) {
+        ++t.reappearances;
+        since_appeared = 0;
+      }
+      was_visible = oo.visible;
+      if (since_appeared < 0 || !oo.visible) continue;
+      if (oo.good) {
+        t.max_reacquire = std::max(t.max_reacquire, since_appeared);
+        since_appeared = -1;
+      } else {
+        ++since_appeared;
+      }
+    }
+    if (since_appeared >= 0) {  // never found again before the sequence ended
+      ++t.never_reacquired;
+      t.max_reacquire = std::max(t.max_reacquire, since_appeared);
+    }
   }
   const std::string name = args.Get("name", args.Get("source"));
   const double share = t.visible > 0 ? double(t.within) / t.visible : 0;
@@ -215,6 +249,8 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
   j.BeginObject()
       .Key("sequence")
       .Value(name)
+      .Key("objects")
+      .Value(objects)
       .Key("visible_frames")
       .Value(t.visible)
       .Key("tracked_within_tolerance")

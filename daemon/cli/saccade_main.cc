@@ -14,8 +14,8 @@ commands:
             find the model in one scene and print each instance's pose and votes
   bench     --model M.pcd --scene S.pcd --fovea x,y,z [--truth POSE.txt] [--frames N] [--json]
             time plain (gold standard) against foveated recognition on one frame
-  bench-track --source SPEC --model M [--config FILE.yaml] [--name NAME] [--rate HZ]
-            [--tolerance-cm C] [--tolerance-deg D] [--wrong-cm W] [--frames-out F.jsonl] [--frames-out F.jsonl]
+  bench-track --source SPEC --model M[,M2,...] [--config FILE.yaml] [--name NAME] [--rate HZ]
+            [--tolerance-cm C] [--tolerance-deg D] [--wrong-cm W] [--frames-out F.jsonl]
             the tracker on a sequence with truth at the sensor's rate (frames it has no time
             for are dropped): share of visible frames within tolerance, frames to re-acquire,
             frames on a wrong place, costs; the last line is one JSON object

@@ -123,6 +123,45 @@ TEST(TrackSet, ATrackThatLosesItsObjectIsLostOnThatFrameThenSearchingAndKeepsIts
       0.003);
 }
 
+TEST(TrackSet, ALostTrackIsNotReacquiredByALookAlikeFarFromWhereItWasLost) {
+  const Demo& d = TheDemo();
+  TrackSet tracks(TrackingOptions{});
+  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  tracks.Update(d.Frame(2, d.empty, false), d.Models(), {}, nullptr);  // lost
+  // While it hides, recognition finds a look-alike 30 cm away, as confident as a true instance
+  // usually is but below min_extra_track_confidence: published untracked, the track searches on.
+  Eigen::Matrix4f there = d.demo.truth.matrix();
+  there(0, 3) += 0.3f;
+  Detection look_alike = d.Found(there);
+  look_alike.confidence = 0.84f;
+  std::string events;
+  std::vector<Detection> out =
+      tracks.Update(d.Frame(3, d.empty, true), d.Models(), {look_alike}, &events);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].track_state, TrackState::kSearching);
+  EXPECT_EQ(out[1].track_state, TrackState::kNone);
+  EXPECT_FALSE(Actionable(out[1].track_state, /*tracking=*/true));  // attention does not follow
+  EXPECT_TRUE(events.empty()) << events;
+  // The object back where it was lost, found at a lower confidence still: re-acquired.
+  Detection back = d.Found();
+  back.confidence = 0.6f;
+  out = tracks.Update(d.Frame(4, d.demo.scene.cloud, true), d.Models(), {look_alike, back}, &events);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].track_id, 0);
+  EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
+  EXPECT_TRUE(out[0].centroid_m.isApprox(back.centroid_m, 1e-3f));
+  EXPECT_EQ(out[1].track_state, TrackState::kNone);
+  // Far away but as confident as a second track must be: that moves it.
+  TrackSet other(TrackingOptions{});
+  other.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  other.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  other.Update(d.Frame(2, d.empty, false), d.Models(), {}, nullptr);
+  out = other.Update(d.Frame(3, d.empty, true), d.Models(), {d.Found(there)}, nullptr);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
+}
+
 TEST(TrackSet, ARecheckThatFindsTheObjectElsewherePutsTheTrackBack) {
   const Demo& d = TheDemo();
   TrackSet tracks(TrackingOptions{});
