@@ -62,23 +62,38 @@ Eigen::Matrix4f TrackSet::Track::PredictedAt(double t_s) const {
   return scaled * pose;
 }
 
+bool TrackSet::ModelHeld(int model) const {
+  return std::any_of(tracks_.begin(), tracks_.end(),
+                     [&](const Track& t) { return t.model == model && Held(t); });
+}
+
+bool TrackSet::RecheckDue() const {
+  return std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) {
+    return Held(t) && (t.frames_since_check + 1 >= options_.recheck_every ||
+                       t.fitness < options_.recheck_below_fitness);
+  });
+}
+
 bool TrackSet::NeedsRecognition() const {
   if (!options_.enabled || tracks_.empty()) return true;
-  for (const Track& t : tracks_) {
-    if (Held(t)) {
-      if (t.frames_since_check + 1 >= options_.recheck_every) return true;
-      if (t.fitness < options_.recheck_below_fitness) return true;
-      continue;
-    }
-    // A lost track is searched for unless its model is held by another track: then the
-    // re-checks look for it (one object of a model is the common case; a false track that
-    // was lost should not make every frame a search).
-    const bool model_held = std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& o) {
-      return o.model == t.model && Held(o);
-    });
-    if (!model_held) return true;
-  }
-  return false;
+  if (RecheckDue()) return true;
+  // Nothing held: attention searches (the fovea at the lost track, G growing) and recognition
+  // runs every frame. A lost track whose model another track holds is left to the re-checks
+  // (one object of a model is the common case: a false track that was lost should not make
+  // every frame a search).
+  if (!std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) { return Held(t); }))
+    return true;
+  return SweepPhase() >= 0;
+}
+
+int TrackSet::SweepPhase() const {
+  if (!options_.enabled || RecheckDue()) return -1;
+  if (!std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) { return Held(t); }))
+    return -1;  // attention's own search
+  for (std::size_t m = 0; m < unheld_frames_.size(); ++m)
+    if (!ModelHeld(static_cast<int>(m)) && unheld_frames_[m] + 1 >= options_.recheck_every)
+      return sweeps_;
+  return -1;
 }
 
 void TrackSet::Refine(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
@@ -150,6 +165,7 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
                 tracks_.end());
   for (Track& t : tracks_)
     if (Held(t)) Refine(frame, models, &t, events);
+  if (frame.sweep) ++sweeps_;
 
   std::vector<Detection> out;
   if (frame.recognized) {
@@ -161,6 +177,7 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
     });
     std::vector<bool> taken(tracks_.size(), false);
     const auto inside_search = [&](const Track& t) {
+      if (frame.sweep) return false;  // a sweep's window need not hold the tracks
       if (frame.searched_half_m < 0) return true;
       const Eigen::Vector3f c = CentroidOf(t.pose, models[std::size_t(t.model)].centroid);
       return ((c - frame.searched_centre_m).array().abs() <= frame.searched_half_m).all();
@@ -294,6 +311,10 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       }
     }
   }
+  // The sweep clock of the models no track holds.
+  unheld_frames_.resize(models.size(), 0);
+  for (std::size_t m = 0; m < models.size(); ++m)
+    unheld_frames_[m] = ModelHeld(static_cast<int>(m)) || frame.sweep ? 0 : unheld_frames_[m] + 1;
   std::vector<Detection> tracked;
   tracked.reserve(tracks_.size() + out.size());
   for (const Track& t : tracks_) tracked.push_back(Publish(t, models));

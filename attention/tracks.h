@@ -90,16 +90,24 @@ struct TrackFrame {
   /// and the half-size of its largest box; a negative half-size means the whole frame.
   Eigen::Vector3f searched_centre_m = Eigen::Vector3f::Zero();
   float searched_half_m = -1;
+  /// Recognition swept the frame for models no track holds (SweepPhase): what it found takes
+  /// part as always, but a held track it did not find is not counted as missed.
+  bool sweep = false;
 };
 
 class TrackSet {
  public:
   explicit TrackSet(const TrackingOptions& options) : options_(options) {}
 
-  /// Whether the next frame needs recognition: a re-check is due, a score dropped, a track is
-  /// lost and no other track holds its model, or there is no track at all (always, with
+  /// Whether the next frame needs recognition: a re-check is due, a score dropped, no track is
+  /// held (attention searches), or a model no track holds is due a sweep (always, with
   /// tracking off).
   bool NeedsRecognition() const;
+  /// While tracks are held and a model has none (never found, or lost), recognition sweeps the
+  /// whole frame for it every recheck_every frames, within the keypoint budget: the window to
+  /// describe (SceneQuery::search_phase: even the nearest the fovea, odd ones walking out), or
+  /// -1 when the next frame's recognition, if any, is a re-check at the fovea.
+  int SweepPhase() const;
   /// Digests one frame: refines every held track on it, then takes recognition's instances
   /// (when it ran; `models` indexed by Detection::model). Returns the frame's instances: every
   /// track's, with its id, state and confidence (TRACKING: the track score; LOST and SEARCHING:
@@ -141,9 +149,14 @@ class TrackSet {
               std::string* events);
   Detection Publish(const Track& t, const std::vector<TrackModel>& models) const;
 
+  bool ModelHeld(int model) const;
+  bool RecheckDue() const;
+
   TrackingOptions options_;
   std::vector<Track> tracks_;  // oldest first
   int next_id_ = 0;
+  std::vector<int> unheld_frames_;  // per model no track holds: frames since it was swept for
+  int sweeps_ = 0;                  // sweeps so far (their windows walk outward)
 };
 
 }  // namespace saccade

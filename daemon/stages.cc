@@ -98,6 +98,10 @@ void RecognizeStage::Process(Job* job) {
   q.fovea.growth_m = Eigen::Vector3f::Constant(job->used.growth_m);
   q.intrinsics = frame.intrinsics;
   q.search_phase = job->used.SearchPhase();
+  if (job->sweep_phase >= 0) {  // the whole frame, one window of the budget, for lost models
+    q.foveated = false;
+    q.search_phase = job->sweep_phase;
+  }
   FrameDetections& out = job->detections;
   out.seq = static_cast<std::int64_t>(frame.sequence);
   out.capture_utime = frame.capture_utime;
@@ -132,9 +136,10 @@ void RecognizeStage::Process(Job* job) {
   out.recognize_ms = static_cast<float>(Ms(t0, SteadyNowNs()));
 }
 
-bool TrackStage::NeedsRecognition() const {
+void TrackStage::PlanRecognition(Job* job) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return clear_ || tracks_.NeedsRecognition();
+  job->recognize = clear_ || tracks_.NeedsRecognition();
+  job->sweep_phase = job->recognize && !clear_ ? tracks_.SweepPhase() : -1;
 }
 
 void TrackStage::Clear() {
@@ -163,6 +168,7 @@ void TrackStage::Process(Job* job) {
   f.cloud = job->frame.cloud.get();
   f.intrinsics = job->frame.intrinsics;
   f.recognized = job->recognize;
+  f.sweep = job->sweep_phase >= 0;
   f.searched_centre_m = job->detections.fovea_m;
   // Recognition confirms what lies in the fovea's finest box (grown by G); outside it the
   // coarse levels may miss an object that is there.

@@ -46,6 +46,9 @@ struct Job {
   Frame frame;
   Fixation used;          // the fixation the frame was foveated with
   bool recognize = true;  // false: the tracks hold and no re-check is due, tracking alone
+  /// >= 0: recognition sweeps the whole frame (unfoveated, this window of the keypoint budget)
+  /// for the models no track holds, instead of looking at the fovea (TrackSet::SweepPhase).
+  int sweep_phase = -1;
   std::shared_ptr<const StageConfig> config;  // what the frame runs with (set by Recognize)
   FrameDetections detections;            // what recognition found; after Track, what is published
   std::vector<Eigen::Vector3f> salient;  // the coarse level's salient regions (saccade fallback)
@@ -84,8 +87,9 @@ class RecognizeStage {
 class TrackStage {
  public:
   explicit TrackStage(const TrackingOptions& options) : tracks_(options) {}
-  /// Whether the next frame needs recognition. Thread-safe.
-  bool NeedsRecognition() const;
+  /// Whether the next frame needs recognition, and whether that is a sweep: job->recognize and
+  /// job->sweep_phase. Thread-safe.
+  void PlanRecognition(Job* job) const;
   /// Serial, in frame order.
   void Process(Job* job);
   /// Forgets every track after the frame in progress (a model switch, RESET). Thread-safe.

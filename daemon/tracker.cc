@@ -185,7 +185,7 @@ std::shared_ptr<Job> Tracker::Impl::NextJob(std::string* source_error) {
   }
   if (job->frame.arrival_steady_ns == 0) job->frame.arrival_steady_ns = SteadyNowNs();
   job->used = attend.Current();
-  job->recognize = track.NeedsRecognition();
+  track.PlanRecognition(job.get());
   return job;
 }
 
@@ -251,7 +251,7 @@ void Tracker::Process(Frame frame) {
   job.frame = std::move(frame);
   if (job.frame.arrival_steady_ns == 0) job.frame.arrival_steady_ns = SteadyNowNs();
   job.used = impl_->attend.Current();
-  job.recognize = impl_->track.NeedsRecognition();
+  impl_->track.PlanRecognition(&job);
   impl_->recognize.Process(&job);
   impl_->track.Process(&job);
   impl_->attend.Process(&job);

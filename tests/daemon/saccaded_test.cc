@@ -433,10 +433,12 @@ TEST(Saccaded, AFastLiveSourceDropsFramesButNotMemory) {
   Sandbox box;
   Logger logger(box, "fast.lcmlog");
   StatusWatch watch(box.url);
-  // Every frame searched whole (G_max 0, full-scan fallback): far slower than 200 Hz.
+  // Every frame searched whole (tracking off, G_max 0, full-scan fallback): far slower than
+  // 200 Hz.
   const std::string config = box.Path("slow.yaml");
   fs::copy_file(kSourceDir + "/configs/demo.yaml", config);
-  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 2\n";
+  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 2\n"
+                                       << "tracking:\n  enabled: false\n";
   std::string text = ReadFile(config);
   text.replace(text.find("growth_max_m: 1.0"), 17, "growth_max_m: 0.0");
   std::ofstream(config) << text;
