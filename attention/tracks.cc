@@ -197,10 +197,12 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       Track& t = tracks_[i];
       taken[i] = true;
       const int lost_for = t.lost_seq >= 0 ? static_cast<int>(frame.seq - t.lost_seq) : 0;
-      t.pose = d.model_to_scene;
-      t.time_s = frame.time_s;
-      t.motion = Eigen::Matrix4f::Identity();
-      t.motion_dt_s = 0;
+      // Held until this frame (lost on it, or put back): the motion from its last pose to
+      // recognition's is the prediction's (a fast object outruns a track that starts still).
+      const bool was_held = !t.fresh && (Held(t) || t.lost_seq == frame.seq);
+      t.fresh = false;
+      const Eigen::Matrix4f last = t.pose;
+      const double last_s = t.time_s;
       t.state = TrackState::kReacquired;
       // Tentative: re-checked on the next frame, where one miss loses it.
       t.frames_since_check = options_.recheck_every;
@@ -209,10 +211,18 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       t.found = d;
       t.fitness = d.fitness;
       t.coverage = d.coverage;
+      t.pose = d.model_to_scene;
       if (FrameUsable(frame)) {
         const TrackResult r = TrackPose(*models[std::size_t(t.model)].points, *frame.cloud,
                                         frame.intrinsics, t.pose, options_.refine);
         if (r.tracking) t.pose = r.model_to_camera;
+      }
+      t.time_s = frame.time_s;
+      t.motion = Eigen::Matrix4f::Identity();
+      t.motion_dt_s = 0;
+      if (was_held && frame.time_s > last_s) {
+        t.motion = t.pose * last.inverse();
+        t.motion_dt_s = frame.time_s - last_s;
       }
       std::string what = "track " + std::to_string(t.id) + " " + why;
       if (lost_for > 0) what += " after " + std::to_string(lost_for) + " frames";
