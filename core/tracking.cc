@@ -6,11 +6,17 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
 namespace saccade {
 namespace {
+
+// The rotation's damping, a share of its mean curvature (TrackPose). make bench-track holds
+// 1394-1408 of its 1418 visible frames within tolerance for any share from 1e-4 to 1
+// (docs/BENCHMARKS.md): the gentlest that stops noise-driven spin is kept.
+constexpr double kRotationDamping = 0.01;
 
 // The point seen at pixel (u, v) and the frame's normal there (from the points `step` pixels
 // around it, turned towards the camera); nullopt where the pixel or its neighbours have no
@@ -75,10 +81,17 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
     return Pair{p, *seen};
   };
 
+  // Rotations are taken about the model's centroid, where a turn of the object is one
+  // direction of the step rather than a turn about the camera coupled with a slide.
+  Eigen::Vector3d centre_M = Eigen::Vector3d::Zero();
+  for (const PointT& p : model.points) centre_M += p.getVector3fMap().cast<double>();
+  centre_M /= double(std::max<std::size_t>(1, model.points.size()));
+
   TrackResult result;
   for (int it = 0; it < o.iterations; ++it) {
-    // Gauss-Newton on the point-to-plane residuals n . (p - q), small motion [w, t] applied on
-    // the left: p' = p + w x p + t.
+    // Gauss-Newton on the point-to-plane residuals n . (p - q), small motion [w, t] about the
+    // centroid c: p' = p + w x (p - c) + t.
+    const Eigen::Vector3d c = X_CM.cast<double>() * centre_M;
     Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> Jte = Eigen::Matrix<double, 6, 1>::Zero();
     int used = 0;
@@ -88,7 +101,7 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
       const Eigen::Vector3d p = pr->p.cast<double>(), q = pr->seen.point.cast<double>(),
                             n = pr->seen.normal.cast<double>();
       Eigen::Matrix<double, 6, 1> J;
-      J << p.cross(n), n;
+      J << (p - c).cross(n), n;
       const double e = n.dot(p - q);
       JtJ += J * J.transpose();
       Jte += J * e;
@@ -96,17 +109,23 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
     }
     result.iterations = it + 1;
     if (used < 6) break;
-    // A little damping per pair (Levenberg's): a motion the surface does not constrain (a
-    // can's turn about its own axis, a plane's slide along itself) has a near-zero pivot, and
-    // undamped it would take any value, spin the pose about the can and carry the spin into the
-    // next prediction. Constrained directions weigh ~0.1-1 m^2 per pair: 1e-4 leaves them be.
-    JtJ.diagonal().array() += 1e-4 * used;
+    // Damping (Levenberg's), towards the prediction, a share of each block's mean curvature: a
+    // motion the surface does not constrain (a can's turn about its own axis, a plane's slide
+    // along itself) has a near-zero pivot and would otherwise take whatever the noise gives it,
+    // spinning the pose about the can instead of following it; the constrained ones are slowed
+    // by about that share per step.
+    const double rotation = JtJ.diagonal().head<3>().sum() / 3,
+                 translation = JtJ.diagonal().tail<3>().sum() / 3;
+    JtJ.diagonal().head<3>().array() += kRotationDamping * rotation;
+    JtJ.diagonal().tail<3>().array() += 1e-4 * translation;
     const Eigen::Matrix<double, 6, 1> x = JtJ.ldlt().solve(-Jte);
     if (!x.allFinite()) break;
     const Eigen::Vector3d w = x.head<3>();
+    Eigen::Matrix3d turn = Eigen::Matrix3d::Identity();
+    if (w.norm() > 0) turn = Eigen::AngleAxisd(w.norm(), w.normalized()).matrix();
     Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
-    if (w.norm() > 0) step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).matrix();
-    step.translation() = x.tail<3>();
+    step.linear() = turn;
+    step.translation() = c + x.tail<3>() - turn * c;
     X_CM = Eigen::Isometry3f((step * X_CM.cast<double>()).cast<float>().matrix());
     if (x.head<3>().norm() < 1e-5 && x.tail<3>().norm() < 1e-5) break;  // converged
   }
