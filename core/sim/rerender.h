@@ -86,7 +86,7 @@ struct LoadedCapture {
   CameraIntrinsics intrinsics;
   std::vector<int> object;                                    // indices of the object's points
   Eigen::Vector3f object_centroid = Eigen::Vector3f::Zero();  // capture frame
-  std::vector<std::vector<int>> others;  // the sequence's further objects' point indices
+  std::vector<std::vector<int>> others;          // the sequence's further objects' point indices
   std::vector<Eigen::Vector3f> other_centroids;  // and their centroids, capture frame
 };
 

@@ -131,8 +131,8 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       if (!Actionable(inst.track_state, settings.tracking.enabled)) continue;
       const std::size_t j = static_cast<std::size_t>(inst.model);
       ObjectOutcome& oo = o.objects[j];
-      const PoseError e = ComparePoses(inst.model_to_scene, truth_of(truth, j).pose.matrix(),
-                                       centres[j]);
+      const PoseError e =
+          ComparePoses(inst.model_to_scene, truth_of(truth, j).pose.matrix(), centres[j]);
       if (oo.error_cm < 0 || e.translation_m * 100 < oo.error_cm) {
         oo.error_cm = e.translation_m * 100;
         oo.error_deg = e.rotation_deg;
@@ -158,8 +158,9 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       return kExitFailure;
     }
     if (frame.truth->others.size() + 1 < objects) {
-      err << "saccade bench-track: " << args.Get("source") << ": frame " << i << " carries the truth of "
-          << frame.truth->others.size() + 1 << " objects, " << objects << " models given\n";
+      err << "saccade bench-track: " << args.Get("source") << ": frame " << i
+          << " carries the truth of " << frame.truth->others.size() + 1 << " objects, " << objects
+          << " models given\n";
       return kExitFailure;
     }
     outcomes.emplace_back();

@@ -146,7 +146,8 @@ TEST(TrackSet, ALostTrackIsNotReacquiredByALookAlikeFarFromWhereItWasLost) {
   // The object back where it was lost, found at a lower confidence still: re-acquired.
   Detection back = d.Found();
   back.confidence = 0.6f;
-  out = tracks.Update(d.Frame(4, d.demo.scene.cloud, true), d.Models(), {look_alike, back}, &events);
+  out =
+      tracks.Update(d.Frame(4, d.demo.scene.cloud, true), d.Models(), {look_alike, back}, &events);
   ASSERT_EQ(out.size(), 2u);
   EXPECT_EQ(out[0].track_id, 0);
   EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
@@ -231,6 +232,41 @@ TEST(TrackSet, ASecondObjectGetsItsOwnIdAndMaxTracksAndConfidenceBoundThem) {
   }
   EXPECT_TRUE(out[3].centroid_m.isApprox(unsure.centroid_m));
   EXPECT_EQ(tracks.size(), 2u);
+}
+
+TEST(TrackSet, AModelNoTrackHoldsIsSweptForAndAnotherModelsPlaceIsNotItsTrack) {
+  const Demo& d = TheDemo();
+  TrackingOptions o;
+  o.recheck_every = 4;
+  TrackSet tracks(o);
+  // Two models (the same cloud twice): recognition finds model 0, and model 1 at its place.
+  const std::vector<TrackModel> models = {d.Models()[0], d.Models()[0]};
+  Detection other = d.Found();
+  other.model = 1;
+  other.confidence = 0.8f;
+  std::vector<Detection> out =
+      tracks.Update(d.Frame(0, d.demo.scene.cloud, true), models, {d.Found(), other}, nullptr);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
+  EXPECT_EQ(out[1].track_state, TrackState::kNone);  // model 0's track stands there
+  EXPECT_EQ(out[1].model, 1);
+  tracks.Update(d.Frame(1, d.demo.scene.cloud, true), models, {d.Found()}, nullptr);
+  // Model 0 held, model 1 nowhere: a sweep every recheck_every frames, its windows in turn.
+  std::vector<int> sweeps;
+  for (std::int64_t seq = 2; seq < 12; ++seq) {
+    const bool recognize = tracks.NeedsRecognition();
+    const int phase = tracks.SweepPhase();
+    EXPECT_EQ(recognize, phase >= 0 || seq % 4 == 1) << "frame " << seq;
+    if (phase >= 0) sweeps.push_back(int(seq));
+    TrackFrame f = d.Frame(seq, d.demo.scene.cloud, recognize);
+    f.sweep = phase >= 0;
+    // A sweep's window holds nothing: model 0's track is not missed for it.
+    out = tracks.Update(f, models, {}, nullptr);
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_EQ(out[0].track_state, TrackState::kTracking) << "frame " << seq;
+  }
+  EXPECT_FALSE(sweeps.empty());
+  for (std::size_t k = 1; k < sweeps.size(); ++k) EXPECT_GE(sweeps[k] - sweeps[k - 1], 4);
 }
 
 TEST(TrackSet, WithTrackingOffRecognitionsInstancesPassThrough) {

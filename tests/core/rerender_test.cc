@@ -78,5 +78,28 @@ TEST(RerenderCapture, AMovedObjectMovesAndIsLabelled) {
   EXPECT_NEAR(after.z(), before.z(), 0.01f);
 }
 
+TEST(RerenderCapture, OtherObjectsStayAndAreLabelledApart) {
+  const CrossCaptureCase demo = MakeDemoCase(/*seed=*/5);
+  RerenderPose pose;
+  pose.others.resize(1);
+  for (std::size_t i = 0; i < demo.scene.label.size(); ++i) {
+    if (!FinitePoint(demo.scene.cloud[i])) continue;
+    if (demo.scene.label[i] == 1) pose.object.push_back(int(i));
+    if (demo.scene.label[i] == 2) pose.others[0].push_back(int(i));
+  }
+  ASSERT_GT(pose.others[0].size(), 300u);
+  pose.object_motion_W = Eigen::Translation3f(0.1f, 0, 0);
+  std::vector<std::uint8_t> labels;
+  const Cloud out = RerenderCapture(demo.scene.cloud, CameraIntrinsics{}, pose, &labels);
+  // The other object's pixels are labelled 2 and show it where it was captured.
+  int other = 0;
+  for (std::size_t j = 0; j < out.size(); ++j) {
+    if (labels[j] != 2) continue;
+    EXPECT_EQ(demo.scene.label[j], 2u) << "pixel " << j;
+    ++other;
+  }
+  EXPECT_GT(other, int(pose.others[0].size()) * 8 / 10);
+}
+
 }  // namespace
 }  // namespace saccade

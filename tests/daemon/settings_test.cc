@@ -32,8 +32,10 @@ TEST(DaemonSettings, ShippedFileHoldsSaccadesDefaults) {
   // The service part is the built-in defaults, written out.
   EXPECT_EQ(s.bus.url, saccade.bus.url);
   EXPECT_TRUE(s.pipeline == saccade.pipeline);
-  EXPECT_EQ(s.attention.growth_max_m, saccade.attention.growth_max_m);
-  EXPECT_EQ(s.attention.max_targets, 1);
+  EXPECT_TRUE(s.attention == saccade.attention);
+  EXPECT_TRUE(s.tracking == saccade.tracking);
+  // Each held track visited in turn (the paper: 1).
+  EXPECT_EQ(s.attention.max_targets, s.tracking.max_tracks);
   EXPECT_FALSE(s.attention.predict);  // off: the paper's behaviour
   EXPECT_TRUE(s.models.empty());      // the one thing a user must set
 }
