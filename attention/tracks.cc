@@ -67,11 +67,13 @@ bool TrackSet::ModelHeld(int model) const {
                      [&](const Track& t) { return t.model == model && Held(t); });
 }
 
+bool TrackSet::Due(const Track& t) const {
+  return Held(t) && (t.frames_since_check + 1 >= options_.recheck_every ||
+                     t.fitness < options_.recheck_below_fitness);
+}
+
 bool TrackSet::RecheckDue() const {
-  return std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) {
-    return Held(t) && (t.frames_since_check + 1 >= options_.recheck_every ||
-                       t.fitness < options_.recheck_below_fitness);
-  });
+  return std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) { return Due(t); });
 }
 
 bool TrackSet::NeedsRecognition() const {
@@ -94,6 +96,20 @@ int TrackSet::SweepPhase() const {
     if (!ModelHeld(static_cast<int>(m)) && unheld_frames_[m] + 1 >= options_.recheck_every)
       return sweeps_;
   return -1;
+}
+
+std::vector<bool> TrackSet::ModelsToRecognize() const {
+  if (!options_.enabled || !std::any_of(tracks_.begin(), tracks_.end(),
+                                        [&](const Track& t) { return Held(t); }))
+    return {};
+  std::vector<bool> wanted(unheld_frames_.size(), false);
+  if (RecheckDue()) {
+    for (const Track& t : tracks_)
+      if (Due(t)) wanted[std::size_t(t.model)] = true;
+    return wanted;
+  }
+  for (std::size_t m = 0; m < wanted.size(); ++m) wanted[m] = !ModelHeld(static_cast<int>(m));
+  return wanted;
 }
 
 void TrackSet::Refine(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
@@ -178,6 +194,8 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
     std::vector<bool> taken(tracks_.size(), false);
     const auto inside_search = [&](const Track& t) {
       if (frame.sweep) return false;  // a sweep's window need not hold the tracks
+      const std::vector<bool>& ran = frame.recognized_models;
+      if (std::size_t(t.model) < ran.size() && !ran[std::size_t(t.model)]) return false;
       if (frame.searched_half_m < 0) return true;
       const Eigen::Vector3f c = CentroidOf(t.pose, models[std::size_t(t.model)].centroid);
       return ((c - frame.searched_centre_m).array().abs() <= frame.searched_half_m).all();

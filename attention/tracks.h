@@ -93,6 +93,9 @@ struct TrackFrame {
   /// Recognition swept the frame for models no track holds (SweepPhase): what it found takes
   /// part as always, but a held track it did not find is not counted as missed.
   bool sweep = false;
+  /// The models recognition ran for (ModelsToRecognize); empty: all. A held track of a model
+  /// it did not run for is neither confirmed nor missed.
+  std::vector<bool> recognized_models;
 };
 
 class TrackSet {
@@ -108,6 +111,10 @@ class TrackSet {
   /// describe (SceneQuery::search_phase: even the nearest the fovea, odd ones walking out), or
   /// -1 when the next frame's recognition, if any, is a re-check at the fovea.
   int SweepPhase() const;
+  /// Which models the next frame's recognition needs, by model index: those of the tracks due a
+  /// re-check, those a sweep looks for, every model while nothing is held; empty: all of them.
+  /// A re-check then costs one model's recognition, not every model's.
+  std::vector<bool> ModelsToRecognize() const;
   /// Digests one frame: refines every held track on it, then takes recognition's instances
   /// (when it ran; `models` indexed by Detection::model). Returns the frame's instances: every
   /// track's, with its id, state and confidence (TRACKING: the track score; LOST and SEARCHING:
@@ -151,7 +158,8 @@ class TrackSet {
   Detection Publish(const Track& t, const std::vector<TrackModel>& models) const;
 
   bool ModelHeld(int model) const;
-  bool RecheckDue() const;
+  bool Due(const Track& t) const;  // held, and its re-check is due
+  bool RecheckDue() const;         // some track's is
 
   TrackingOptions options_;
   std::vector<Track> tracks_;  // oldest first

@@ -121,6 +121,7 @@ void RecognizeStage::Process(Job* job) {
   // Nested parallelism runs in the pipeline's own arena.
   const ParallelFor parallel = TbbParallelFor();
   for (std::size_t m = 0; m < c.models.size(); ++m) {
+    if (m < job->models.size() && !job->models[m]) continue;  // its tracks hold, none due
     std::string error;
     RecognitionResult r =
         Recognize(c.models[m]->description, *frame.cloud, q, c.recognition, parallel, &error);
@@ -140,6 +141,8 @@ void TrackStage::PlanRecognition(Job* job) const {
   std::lock_guard<std::mutex> lock(mutex_);
   job->recognize = clear_ || tracks_.NeedsRecognition();
   job->sweep_phase = job->recognize && !clear_ ? tracks_.SweepPhase() : -1;
+  job->models.clear();
+  if (job->recognize && !clear_) job->models = tracks_.ModelsToRecognize();
 }
 
 void TrackStage::Clear() {
@@ -169,6 +172,7 @@ void TrackStage::Process(Job* job) {
   f.intrinsics = job->frame.intrinsics;
   f.recognized = job->recognize;
   f.sweep = job->sweep_phase >= 0;
+  f.recognized_models = job->models;
   f.searched_centre_m = job->detections.fovea_m;
   // Recognition confirms what lies in the fovea's finest box (grown by G); outside it the
   // coarse levels may miss an object that is there.

@@ -49,6 +49,8 @@ struct Job {
   /// >= 0: recognition sweeps the whole frame (unfoveated, this window of the keypoint budget)
   /// for the models no track holds, instead of looking at the fovea (TrackSet::SweepPhase).
   int sweep_phase = -1;
+  /// The models recognition runs for, by index (TrackSet::ModelsToRecognize); empty: all.
+  std::vector<bool> models;
   std::shared_ptr<const StageConfig> config;  // what the frame runs with (set by Recognize)
   FrameDetections detections;            // what recognition found; after Track, what is published
   std::vector<Eigen::Vector3f> salient;  // the coarse level's salient regions (saccade fallback)

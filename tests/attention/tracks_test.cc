@@ -260,6 +260,10 @@ TEST(TrackSet, AModelNoTrackHoldsIsSweptForAndAnotherModelsPlaceIsNotItsTrack) {
     if (phase >= 0) sweeps.push_back(int(seq));
     TrackFrame f = d.Frame(seq, d.demo.scene.cloud, recognize);
     f.sweep = phase >= 0;
+    if (recognize) {  // a re-check runs model 0's recognition alone, a sweep model 1's
+      f.recognized_models = tracks.ModelsToRecognize();
+      EXPECT_EQ(f.recognized_models, (std::vector<bool>{!f.sweep, f.sweep})) << "frame " << seq;
+    }
     // A sweep's window holds nothing: model 0's track is not missed for it.
     out = tracks.Update(f, models, {}, nullptr);
     ASSERT_EQ(out.size(), 1u);
