@@ -45,6 +45,7 @@ bool TrackingOptions::IsValid(std::string* error) const {
     return Fail(error, "min_extra_track_confidence must be in [0, 1]");
   if (!(reacquire_radius_m >= same_track_m))
     return Fail(error, "reacquire_radius_m must be >= same_track_m");
+  if (recheck_max_keypoints < 0) return Fail(error, "recheck_max_keypoints must be >= 0");
   if (max_tracks < 1) return Fail(error, "max_tracks must be >= 1");
   if (forget_after_frames < 1) return Fail(error, "forget_after_frames must be >= 1");
   return refine.IsValid(error);
@@ -99,8 +100,8 @@ int TrackSet::SweepPhase() const {
 }
 
 std::vector<bool> TrackSet::ModelsToRecognize() const {
-  if (!options_.enabled || !std::any_of(tracks_.begin(), tracks_.end(),
-                                        [&](const Track& t) { return Held(t); }))
+  if (!options_.enabled ||
+      !std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) { return Held(t); }))
     return {};
   std::vector<bool> wanted(unheld_frames_.size(), false);
   if (RecheckDue()) {

@@ -120,11 +120,15 @@ void RecognizeStage::Process(Job* job) {
                                     "geometry alone (docs/RESULTS.md measures both)");
   // Nested parallelism runs in the pipeline's own arena.
   const ParallelFor parallel = TbbParallelFor();
+  // A re-check (tracks held, some due) looks at the track only: its own keypoint budget.
+  RecognitionOptions options = c.recognition;
+  if (!job->models.empty() && job->sweep_phase < 0 && c.tracking.recheck_max_keypoints > 0)
+    options.max_scene_keypoints = c.tracking.recheck_max_keypoints;
   for (std::size_t m = 0; m < c.models.size(); ++m) {
     if (m < job->models.size() && !job->models[m]) continue;  // its tracks hold, none due
     std::string error;
     RecognitionResult r =
-        Recognize(c.models[m]->description, *frame.cloud, q, c.recognition, parallel, &error);
+        Recognize(c.models[m]->description, *frame.cloud, q, options, parallel, &error);
     if (!error.empty()) Log(LogLevel::kDebug, "frame " + std::to_string(out.seq) + ": " + error);
     for (Detection& d : r.instances) {
       d.model = static_cast<int>(m);
