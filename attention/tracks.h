@@ -43,11 +43,14 @@ struct TrackingOptions {
   /// docs/RESULTS.md): one object per model is the common case, and a look-alike the usual
   /// false instance.
   float min_extra_track_confidence = 0.9f;
-  /// A lost track is re-acquired, and a held one put back, by an instance farther than this
-  /// from its last held pose only at min_extra_track_confidence: while the object hides, a
+  /// A lost track is re-acquired by an instance farther than this from its last held pose only
+  /// at min_extra_track_confidence (and a less confident instance this near a held track that
+  /// recognition did not confirm is its object at a worse pose): while the object hides, a
   /// look-alike elsewhere in the view is the usual false instance, and recognition finds it
-  /// again at every search (an object that comes back comes back near where it was lost).
-  float reacquire_radius_m = 0.1f;
+  /// again at every search. On make bench-track, 0.05 and 0.1 hold the same frames and 0.05
+  /// the fewer wrong ones (0 and 2 of 1,403); 0.2 and more re-acquire test31's look-alike, 22.6
+  /// cm from the can (docs/BENCHMARKS.md).
+  float reacquire_radius_m = 0.05f;
   /// A re-check describes at most this many scene keypoints, the nearest the fovea (on the
   /// track); 0: recognition.max_scene_keypoints, as any search. 0, 300 and 600 held the same
   /// frames on make bench-track's 15 sequences; 300 cut a re-check from ~10 to ~7.5 ms (p50).
