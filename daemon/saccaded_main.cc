@@ -36,7 +36,7 @@ bool LoadSettings(const saccade::Args& args, saccade::DaemonSettings* settings,
   saccade::DaemonSettings s;  // Saccade's defaults; the file overrides them
   if (args.Has("config") && !saccade::LoadDaemonSettings(args.Get("config"), &s, error))
     return false;
-  if (args.Has("source")) s.source = args.Get("source");
+  if (args.Has("source")) s.source.spec = args.Get("source");
   if (args.Has("model")) s.models = {args.Get("model")};
   if (args.Has("lcm-url")) s.bus.url = args.Get("lcm-url");
   if (s.models.empty()) {

@@ -1,5 +1,7 @@
 #include "daemon/settings.h"
 
+#include <cmath>
+
 #include "core/fail.h"
 #include "io/config.h"
 #include "io/log.h"
@@ -29,6 +31,13 @@ bool ServiceOptions::IsValid(std::string* error) const {
   return true;
 }
 
+bool SourceOptions::IsValid(std::string* error) const {
+  if (spec.empty()) return Fail(error, "spec must name a frame source");
+  if (!(wait_at_start_s >= 0) || !std::isfinite(wait_at_start_s))
+    return Fail(error, "wait_at_start_s must be a finite number of seconds >= 0");
+  return true;
+}
+
 bool DaemonSettings::IsValid(std::string* error) const {
   std::string why;
   if (!initial_fovea_m.allFinite()) return Fail(error, "initial_fovea_m must be finite");
@@ -36,7 +45,7 @@ bool DaemonSettings::IsValid(std::string* error) const {
     if (options.IsValid(&why)) return true;
     return Fail(error, std::string(section) + ": " + why);
   };
-  return check("recognition", recognition) && check("fovea", fovea) &&
+  return check("source", source) && check("recognition", recognition) && check("fovea", fovea) &&
          check("attention", attention) && check("tracking", tracking) &&
          check("saliency", saliency) && check("pipeline", pipeline) && check("lcm", bus) &&
          check("robot_frame", bus.robot) && check("service", service);
@@ -47,6 +56,8 @@ bool LoadDaemonSettings(const std::string& path, DaemonSettings* settings, std::
   ConfigSchema schema = SchemaOf(&s);
   // G is the attention loop's to set, every frame.
   schema.sections["fovea"].setters.erase("growth_m");
+  // `source: SPEC` is the section's spec alone.
+  schema.top.Add("source", &s.source.spec);
   std::vector<std::string> set;
   if (!ApplyConfigFile(path, schema, error, &set)) {
     if (error->find("key 'fovea.growth_m': unknown key") != std::string::npos)

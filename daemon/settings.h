@@ -16,6 +16,23 @@
 namespace saccade {
 
 /// How frames go through the tracker (the `pipeline` section).
+/// Where frames come from: `source: SPEC` alone, or this section.
+struct SourceOptions {
+  std::string spec = "openni2://";  // a frame source spec (docs/SOURCES.md)
+  /// A live camera that is not there at start is waited for this long, with the back-off of a
+  /// reconnect, STATUS saying "waiting for device" (0: fail at once, for scripts).
+  double wait_at_start_s = 60;
+
+  bool IsValid(std::string* error) const;
+  bool operator==(const SourceOptions& o) const { return SameFields(*this, o); }
+  bool operator!=(const SourceOptions& o) const { return !(*this == o); }
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("spec", &spec);
+    a->Visit("wait_at_start_s", &wait_at_start_s);
+  }
+};
+
 struct PipelineOptions {
   /// Frames in the pipeline at once, in [1, 16]. 1 gives the lowest latency when a frame fits
   /// in the sensor period (recognition already uses every core); 2 overlaps frames for
@@ -71,7 +88,7 @@ inline AttentionOptions DaemonAttentionOptions() {
 }
 
 struct DaemonSettings {
-  std::string source = "openni2://";  // a frame source spec (docs/SOURCES.md)
+  SourceOptions source;
   /// Model PCD files, or synthetic:target (the synthetic Kinect's target, for demos).
   std::vector<std::string> models;
   Eigen::Vector3f initial_fovea_m{0.0f, 0.0f, 1.0f};  // camera frame, before any detection
@@ -89,7 +106,7 @@ struct DaemonSettings {
   /// The keys of configs/saccaded.yaml (core/schema.h).
   template <typename Archive>
   void Serialize(Archive* a) {
-    a->Visit("source", &source);
+    a->Section("source", &source);
     a->Visit("model", &models);
     a->Visit("initial_fovea_m", &initial_fovea_m);
     a->Section("recognition", &recognition);

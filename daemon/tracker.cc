@@ -146,7 +146,7 @@ StatusReport Tracker::Impl::PublishStatus(double period_s, bool final) {
   const SourceStats source_stats = source->Stats();
   StatusReport s;
   s.uptime_s = Seconds(started_ns, SteadyNowNs());
-  s.source = settings.source;
+  s.source = settings.source.spec;
   s.source_state = source_stats.state;
   s.frames_in = static_cast<std::int64_t>(source_stats.produced);
   s.frames_dropped = static_cast<std::int64_t>(source_stats.dropped);
@@ -240,7 +240,7 @@ std::unique_ptr<Tracker> Tracker::Open(const DaemonSettings& settings, Heartbeat
   if (!models) return nullptr;
   std::unique_ptr<Bus> bus = OpenLcmBus(settings.bus, error);
   if (!bus) return nullptr;
-  std::unique_ptr<FrameSource> source = OpenSource(settings.source, error);
+  std::unique_ptr<FrameSource> source = OpenSource(settings.source.spec, error, settings.source.wait_at_start_s);
   if (!source) return nullptr;
   return std::unique_ptr<Tracker>(new Tracker(std::make_unique<Impl>(
       settings, std::move(*models), std::move(source), std::move(bus), std::move(heartbeat))));
@@ -292,7 +292,9 @@ bool Tracker::Run(std::string* error) {
     while (!status_cv.wait_for(lock, period, [&] { return status_done; })) {
       const StatusReport status = s.PublishStatus(s.settings.service.status_period_s, false);
       const std::int64_t now = s.publish.Progress();
-      const bool waiting = status.paused || status.source_state.rfind("reconnecting", 0) == 0;
+      // Paused, or a camera being waited for (at start or after a loss): alive, not stuck.
+      const bool waiting = status.paused || status.source_state.rfind("reconnecting", 0) == 0 ||
+                           status.source_state.rfind("waiting for device", 0) == 0;
       if (s.heartbeat) s.heartbeat(now != seen || waiting);
       seen = now;
     }
@@ -312,7 +314,7 @@ bool Tracker::Run(std::string* error) {
   s.PublishStatus(seconds, true);
   Log(LogLevel::kInfo, s.publish.RunLine(seconds, s.source->Stats()));
   if (!source_error.empty()) {
-    return Fail(error, "source " + s.settings.source + ": " + source_error);
+    return Fail(error, "source " + s.settings.source.spec + ": " + source_error);
   }
   return true;
 }

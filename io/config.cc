@@ -107,7 +107,11 @@ bool ApplySchema(const YAML::Node& node, const ConfigSchema& schema, const std::
                  const std::string& path, std::string* error, std::vector<std::string>* set) {
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>();
-    if (auto section = schema.sections.find(key); section != schema.sections.end()) {
+    // A key that is both a section and a plain key (source: SPEC, or source: {spec: ...}) is
+    // the section when it is a mapping.
+    const auto section = schema.sections.find(key);
+    if (section != schema.sections.end() &&
+        (kv.second.IsMap() || schema.top.setters.count(key) == 0)) {
       if (!ApplySection(kv.second, prefix + key, section->second.setters, path, error, set))
         return false;
     } else if (!ApplyKey(schema.top.setters, key, prefix + key, kv.second, path, error)) {

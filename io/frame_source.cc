@@ -534,7 +534,8 @@ std::optional<SourceSpec> ParseSourceSpec(const std::string& text, std::string* 
   return spec;
 }
 
-std::unique_ptr<FrameSource> OpenSource(const std::string& text, std::string* error) {
+std::unique_ptr<FrameSource> OpenSource(const std::string& text, std::string* error,
+                                        double wait_at_start_s) {
   const auto spec = ParseSourceSpec(text, error);
   if (!spec) return nullptr;
   if (spec->kind == "pcd" || spec->kind == "depth") return OpenFiles(*spec, error);
@@ -560,7 +561,7 @@ std::unique_ptr<FrameSource> OpenSource(const std::string& text, std::string* er
     return OpenOniPlayback(spec->target, o, error);
   }
   if (!OnlyOptions(*spec, {}, error)) return nullptr;
-  return OpenOpenNI2Device(spec->target, error);
+  return OpenOpenNI2Device(spec->target, wait_at_start_s, error);
 }
 
 std::int64_t SteadyNowNs() {

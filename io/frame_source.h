@@ -53,8 +53,10 @@ class FrameSource {
 ///                          capture is, default ../shared/data), frames=N, rate=HZ, loop=0|1
 /// A source with rate > 0 is live: it runs at that rate on its own thread into a latest-frame
 /// mailbox and counts what its consumer did not take in time. nullptr with one line in
-/// `error` when the spec is malformed or the source cannot be opened.
-std::unique_ptr<FrameSource> OpenSource(const std::string& spec, std::string* error);
+/// `error` when the spec is malformed or the source cannot be opened. A live camera that is not
+/// there yet is waited for up to `wait_at_start_s` (its Stats().state says so) instead.
+std::unique_ptr<FrameSource> OpenSource(const std::string& spec, std::string* error,
+                                        double wait_at_start_s = 0);
 
 /// A spec split into its kind, its target and its options.
 struct SourceSpec {

@@ -85,6 +85,55 @@ bool ToFrame(const openni::VideoFrameRef& ref, const CameraIntrinsics& k, Frame*
   return true;
 }
 
+// The URI of `device` ("" the first, "#N" the N-th, a URI or a serial number) among the
+// devices libOpenNI2 lists now; false with one line naming the spec when there is none.
+bool ResolveDevice(const std::string& device, std::string* uri, std::string* error) {
+  const std::string spec = "openni2://" + device;
+  uri->clear();
+  openni::Array<openni::DeviceInfo> list;
+  openni::OpenNI::enumerateDevices(&list);
+  std::vector<std::string> uris;
+  for (int i = 0; i < list.getSize(); ++i) uris.push_back(list[i].getUri());
+  if (uris.empty()) {
+    Fail(error, spec +
+                    ": no OpenNI2 device found (libOpenNI2 and its drivers list none; is a "
+                    "sensor plugged in and readable by this user?)");
+    return false;
+  }
+  if (device.empty()) {
+    *uri = uris.front();
+  } else if (device[0] == '#') {
+    char* end = nullptr;
+    const long n = std::strtol(device.c_str() + 1, &end, 10);
+    if (device.size() < 2 || *end != '\0' || n < 0 || n >= static_cast<long>(uris.size())) {
+      Fail(error, spec + ": no such device; " + std::to_string(uris.size()) +
+                      " found (openni2://#0 is the first)");
+      return false;
+    }
+    *uri = uris[static_cast<std::size_t>(n)];
+  } else {
+    for (const auto& u : uris)
+      if (u == device) *uri = u;
+    for (std::size_t i = 0; uri->empty() && i < uris.size(); ++i) {  // a serial number
+      openni::Device d;
+      if (d.open(uris[i].c_str()) != openni::STATUS_OK) continue;
+      char serial[128] = {};
+      int size = sizeof(serial);
+      if (d.getProperty(ONI_DEVICE_PROPERTY_SERIAL_NUMBER, serial, &size) == openni::STATUS_OK &&
+          device == serial)
+        *uri = uris[i];
+      d.close();
+    }
+    if (uri->empty()) {
+      std::string all;
+      for (const auto& u : uris) all += (all.empty() ? "" : ", ") + u;
+      Fail(error, spec + ": no device with that URI or serial number (found: " + all + ")");
+      return false;
+    }
+  }
+  return true;
+}
+
 // What the device and playback sources share: one depth stream, a recorder, the mailbox that
 // OpenNI2's callback thread fills, and the counters.
 class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameListener {
@@ -218,11 +267,21 @@ class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameL
 
 class DeviceSource : public StreamSource {
  public:
-  bool Open(const std::string& uri, std::string* error) {
-    uri_ = uri;
-    if (!OpenStream(uri, error) || !StartStream(error)) return false;
+  // Opens `device` (a spec's target); when it is not there and wait_at_start_s > 0, waits for
+  // it in the background (state "waiting for device: why") with the back-off of a reconnect,
+  // and past the wait posts the error Next() returns.
+  bool Open(const std::string& device, double wait_at_start_s, std::string* error) {
+    device_spec_ = device;
+    std::string why;
+    const bool opened = Connect(&why);
+    if (!opened && !(wait_at_start_s > 0)) return Fail(error, why);
+    if (!opened) {
+      SetState("waiting for device: " + why);
+      waiting_until_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(wait_at_start_s));
+    }
     last_frame_ = Clock::now().time_since_epoch().count();
-    watchdog_ = std::thread([this] { Watch(); });
+    watchdog_ = std::thread([this, opened] { Watch(!opened); });
     return true;
   }
   ~DeviceSource() override {
@@ -236,38 +295,67 @@ class DeviceSource : public StreamSource {
     mailbox_.Put(ReadOne());
   }
   bool Live() const override { return true; }
-  std::string Describe() const override { return "openni2://" + uri_; }
+  std::string Describe() const override {
+    return "openni2://" + (uri_.empty() ? device_spec_ : uri_);
+  }
 
  private:
-  // Reopens the device when frames stop: unplugged, powered down, or a stalled driver.
-  void Watch() {
+  // Finds the device and starts its depth stream; false with why not (closed again).
+  bool Connect(std::string* why) {
+    std::string uri;
+    if (ResolveDevice(device_spec_, &uri, why) && OpenStream(uri, why) && StartStream(why)) {
+      uri_ = uri;
+      return true;
+    }
+    CloseStream();
+    return false;
+  }
+
+  // Reopens the device when frames stop (unplugged, powered down, a stalled driver), and at
+  // start waits for one that is not there yet: back-off 0.5 s doubling to 8 s.
+  void Watch(bool waiting) {
     const auto stall = std::chrono::seconds(2);
     std::unique_lock<std::mutex> lock(watch_mutex_);
     while (!stopped_) {
-      wake_.wait_for(lock, std::chrono::milliseconds(250));
-      if (stopped_) break;
-      const Clock::time_point last{Clock::duration(last_frame_.load())};
-      if (Clock::now() - last < stall) continue;
-      SetState("reconnecting: no frame for 2 s");
-      CloseStream();
+      if (!waiting) {
+        wake_.wait_for(lock, std::chrono::milliseconds(250));
+        if (stopped_) break;
+        const Clock::time_point last{Clock::duration(last_frame_.load())};
+        if (Clock::now() - last < stall) continue;
+        SetState("reconnecting: no frame for 2 s");
+        CloseStream();
+      }
       auto backoff = std::chrono::milliseconds(500);
       while (!stopped_) {
-        std::string error;
-        if (OpenStream(uri_, &error) && StartStream(&error)) {
-          ++reconnects_;
+        std::string why;
+        if (Connect(&why)) {
+          if (!waiting) ++reconnects_;
           last_frame_ = Clock::now().time_since_epoch().count();
           SetState("streaming");
           break;
         }
-        CloseStream();
-        SetState("reconnecting: " + error);
+        if (waiting && Clock::now() >= waiting_until_) {  // the wait at start is over
+          Item item;
+          item.ok = false;
+          item.error = why + " (waited " +
+                       std::to_string(static_cast<long long>(std::lround(
+                           std::chrono::duration<double>(Clock::now() - started_).count()))) +
+                       " s for it)";
+          mailbox_.Put(std::move(item));
+          return;
+        }
+        SetState((waiting ? "waiting for device: " : "reconnecting: ") + why);
         wake_.wait_for(lock, backoff);
         backoff = std::min(backoff * 2, std::chrono::milliseconds(8000));
       }
+      waiting = false;
     }
   }
 
-  std::string uri_;
+  std::string device_spec_;  // "", "#N", a URI or a serial number
+  std::string uri_;          // the device's URI once found
+  const Clock::time_point started_ = Clock::now();
+  Clock::time_point waiting_until_;
   std::atomic<Clock::rep> last_frame_{0};
   std::mutex watch_mutex_;
   std::thread watchdog_;
@@ -370,53 +458,11 @@ class PlaybackSource : public StreamSource {
 
 }  // namespace
 
-std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device, std::string* error) {
-  const std::string spec = "openni2://" + device;
+std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device,
+                                                 double wait_at_start_s, std::string* error) {
   if (!InitializeOpenNI(error)) return nullptr;
-  openni::Array<openni::DeviceInfo> list;
-  openni::OpenNI::enumerateDevices(&list);
-  std::vector<std::string> uris;
-  for (int i = 0; i < list.getSize(); ++i) uris.push_back(list[i].getUri());
-  if (uris.empty()) {
-    Fail(error, spec +
-                    ": no OpenNI2 device found (libOpenNI2 and its drivers list none; is a "
-                    "sensor plugged in and readable by this user?)");
-    return nullptr;
-  }
-  std::string uri;
-  if (device.empty()) {
-    uri = uris.front();
-  } else if (device[0] == '#') {
-    char* end = nullptr;
-    const long n = std::strtol(device.c_str() + 1, &end, 10);
-    if (device.size() < 2 || *end != '\0' || n < 0 || n >= static_cast<long>(uris.size())) {
-      Fail(error, spec + ": no such device; " + std::to_string(uris.size()) +
-                      " found (openni2://#0 is the first)");
-      return nullptr;
-    }
-    uri = uris[static_cast<std::size_t>(n)];
-  } else {
-    for (const auto& u : uris)
-      if (u == device) uri = u;
-    for (std::size_t i = 0; uri.empty() && i < uris.size(); ++i) {  // a serial number
-      openni::Device d;
-      if (d.open(uris[i].c_str()) != openni::STATUS_OK) continue;
-      char serial[128] = {};
-      int size = sizeof(serial);
-      if (d.getProperty(ONI_DEVICE_PROPERTY_SERIAL_NUMBER, serial, &size) == openni::STATUS_OK &&
-          device == serial)
-        uri = uris[i];
-      d.close();
-    }
-    if (uri.empty()) {
-      std::string all;
-      for (const auto& u : uris) all += (all.empty() ? "" : ", ") + u;
-      Fail(error, spec + ": no device with that URI or serial number (found: " + all + ")");
-      return nullptr;
-    }
-  }
   auto source = std::make_unique<DeviceSource>();
-  if (!source->Open(uri, error)) return nullptr;
+  if (!source->Open(device, wait_at_start_s, error)) return nullptr;
   return source;
 }
 

@@ -19,8 +19,12 @@ class OpenNI2Source : public FrameSource {
 
 /// `device`: "" for the first device, "#N" for the N-th (0-based), or a URI or serial number.
 /// Live: frames go to a latest-frame mailbox from OpenNI2's callback thread; when no frame has
-/// come for 2 s the device is closed and reopened with back-off (0.5 s doubling to 8 s).
-std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device, std::string* error);
+/// come for 2 s the device is closed and reopened with back-off (0.5 s doubling to 8 s). A
+/// device that is not there at start fails at once with `wait_at_start_s` 0; with more, the
+/// source opens and waits that long for it (Stats().state "waiting for device: why", the same
+/// back-off), after which Next() returns the error.
+std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device,
+                                                 double wait_at_start_s, std::string* error);
 
 struct OniPlaybackOptions {
   enum class Mode {

@@ -114,8 +114,9 @@ TEST(EvalConfigurations, ShippedSaccadeRowsAreTheBuiltInDefaults) {
     // (protocol (a) is the same with it, 171/212; its attention loop, protocol (c), is not
     // budgeted); make bench-track measures the budget.
     EXPECT_EQ(measured.recognition.max_scene_keypoints, 0);
-    measured.recognition.max_scene_keypoints = DaemonSettings{}.recognition.max_scene_keypoints;
-    ExpectSameRecognitionAndFovea(measured, DaemonSettings{});
+    const DaemonSettings defaults;
+    measured.recognition.max_scene_keypoints = defaults.recognition.max_scene_keypoints;
+    ExpectSameRecognitionAndFovea(measured, defaults);
   }
 }
 

@@ -22,7 +22,7 @@ DaemonSettings DemoSettings() {
   EXPECT_TRUE(LoadDaemonSettings(kSourceDir + "/configs/demo.yaml", &s, &error)) << error;
   s.service.summary = ServiceOptions::Summary::kOff;
   // rate=0: rendered as read, so the test gets every frame (a live source drops late ones).
-  s.source = "synthetic:static?frames=6&seed=3&rate=0";
+  s.source.spec = "synthetic:static?frames=6&seed=3&rate=0";
   return s;
 }
 
@@ -30,9 +30,9 @@ DaemonSettings DemoSettings() {
 struct Rig {
   explicit Rig(const DaemonSettings& settings) {
     std::string error;
-    std::unique_ptr<FrameSource> source = OpenSource(settings.source, &error);
+    std::unique_ptr<FrameSource> source = OpenSource(settings.source.spec, &error);
     EXPECT_TRUE(source) << error;
-    frames = OpenSource(settings.source, &error);  // the same frames, for the test to feed
+    frames = OpenSource(settings.source.spec, &error);  // the same frames, for the test to feed
     auto owned = std::make_unique<MemoryBus>();
     bus = owned.get();
     tracker = Tracker::Create(settings, std::move(source), std::move(owned), nullptr, &error);
@@ -154,7 +154,7 @@ namespace {
 // re-acquired after it comes out; and the held instances are where the truth is.
 TEST(Tracker, EveryMessageCarriesTheTrackStatesInOrderThroughAnOcclusion) {
   DaemonSettings settings = DemoSettings();
-  settings.source = "synthetic:" + kSourceDir + "/configs/demo-scenario.yaml?rate=0";
+  settings.source.spec = "synthetic:" + kSourceDir + "/configs/demo-scenario.yaml?rate=0";
   Rig rig(settings);
   ASSERT_TRUE(rig.tracker);
   std::vector<GroundTruth> truth;
