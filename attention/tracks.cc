@@ -77,22 +77,39 @@ bool TrackSet::RecheckDue() const {
   return std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) { return Due(t); });
 }
 
+bool TrackSet::AnyHeld() const {
+  return std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) { return Held(t); });
+}
+
+// The due track a score drop made due first, then the one longest without a check.
+const TrackSet::Track* TrackSet::MostOverdue() const {
+  const Track* most = nullptr;
+  const auto urgency = [&](const Track& t) {
+    return (t.fitness < options_.recheck_below_fitness ? 1000000 : 0) + t.frames_since_check;
+  };
+  for (const Track& t : tracks_)
+    if (Due(t) && (!most || urgency(t) > urgency(*most))) most = &t;
+  return most;
+}
+
+std::optional<Eigen::Vector3f> TrackSet::RecheckAt() const {
+  const Track* t = options_.enabled ? MostOverdue() : nullptr;
+  if (!t || std::size_t(t->model) >= centroids_.size()) return std::nullopt;
+  return CentroidOf(t->pose, centroids_[std::size_t(t->model)]);
+}
+
 bool TrackSet::NeedsRecognition() const {
   if (!options_.enabled || tracks_.empty()) return true;
   if (RecheckDue()) return true;
   // Nothing held: attention searches (the fovea at the lost track, G growing) and recognition
-  // runs every frame. A lost track whose model another track holds is left to the re-checks
-  // (one object of a model is the common case: a false track that was lost should not make
-  // every frame a search).
-  if (!std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) { return Held(t); }))
-    return true;
+  // runs every frame. While a track is held, the others' models are swept for.
+  if (!AnyHeld()) return true;
   return SweepPhase() >= 0;
 }
 
 int TrackSet::SweepPhase() const {
   if (!options_.enabled || RecheckDue()) return -1;
-  if (!std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) { return Held(t); }))
-    return -1;  // attention's own search
+  if (!AnyHeld()) return -1;  // attention's own search
   for (std::size_t m = 0; m < unheld_frames_.size(); ++m)
     if (!ModelHeld(static_cast<int>(m)) && unheld_frames_[m] + 1 >= options_.recheck_every)
       return sweeps_;
@@ -100,13 +117,10 @@ int TrackSet::SweepPhase() const {
 }
 
 std::vector<bool> TrackSet::ModelsToRecognize() const {
-  if (!options_.enabled ||
-      !std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) { return Held(t); }))
-    return {};
+  if (!options_.enabled || !AnyHeld()) return {};
   std::vector<bool> wanted(unheld_frames_.size(), false);
-  if (RecheckDue()) {
-    for (const Track& t : tracks_)
-      if (Due(t)) wanted[std::size_t(t.model)] = true;
+  if (const Track* t = MostOverdue()) {
+    if (std::size_t(t->model) < wanted.size()) wanted[std::size_t(t->model)] = true;
     return wanted;
   }
   for (std::size_t m = 0; m < wanted.size(); ++m) wanted[m] = !ModelHeld(static_cast<int>(m));
@@ -216,9 +230,9 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       Track& t = tracks_[i];
       taken[i] = true;
       const int lost_for = t.lost_seq >= 0 ? static_cast<int>(frame.seq - t.lost_seq) : 0;
-      // Held until this frame (lost on it, or put back): the motion from its last pose to
-      // recognition's is the prediction's (a fast object outruns a track that starts still).
-      const bool was_held = !t.fresh && (Held(t) || t.lost_seq == frame.seq);
+      // Held until this frame (lost on it) and found again near: the motion from its last pose
+      // to recognition's is the prediction's (a fast object outruns a track that starts still).
+      const bool was_held = !t.fresh && t.lost_seq == frame.seq;
       t.fresh = false;
       const Eigen::Matrix4f last = t.pose;
       const double last_s = t.time_s;
@@ -239,7 +253,10 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       t.time_s = frame.time_s;
       t.motion = Eigen::Matrix4f::Identity();
       t.motion_dt_s = 0;
-      if (was_held && frame.time_s > last_s) {
+      const float moved = (CentroidOf(t.pose, models[std::size_t(t.model)].centroid) -
+                           CentroidOf(last, models[std::size_t(t.model)].centroid))
+                              .norm();
+      if (was_held && frame.time_s > last_s && moved <= options_.reacquire_radius_m) {
         t.motion = t.pose * last.inverse();
         t.motion_dt_s = frame.time_s - last_s;
       }
@@ -341,6 +358,8 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
     }
   }
   // The sweep clock of the models no track holds.
+  centroids_.clear();
+  for (const TrackModel& m : models) centroids_.push_back(m.centroid);
   unheld_frames_.resize(models.size(), 0);
   for (std::size_t m = 0; m < models.size(); ++m)
     unheld_frames_[m] = ModelHeld(static_cast<int>(m)) || frame.sweep ? 0 : unheld_frames_[m] + 1;

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -119,9 +120,13 @@ class TrackSet {
   /// describe (SceneQuery::search_phase: even the nearest the fovea, odd ones walking out), or
   /// -1 when the next frame's recognition, if any, is a re-check at the fovea.
   int SweepPhase() const;
-  /// Which models the next frame's recognition needs, by model index: those of the tracks due a
-  /// re-check, those a sweep looks for, every model while nothing is held; empty: all of them.
-  /// A re-check then costs one model's recognition, not every model's.
+  /// Where the next frame's re-check looks: the centroid of the held track most overdue
+  /// (camera frame, at its last pose). A re-check recognizes at the track, whatever attention
+  /// follows; one track a frame, the others stay due. nullopt when no re-check is due.
+  std::optional<Eigen::Vector3f> RecheckAt() const;
+  /// Which models the next frame's recognition needs, by model index: the re-checked track's,
+  /// those a sweep looks for, every model while nothing is held; empty: all of them. A re-check
+  /// then costs one model's recognition, not every model's.
   std::vector<bool> ModelsToRecognize() const;
   /// Digests one frame: refines every held track on it, then takes recognition's instances
   /// (when it ran; `models` indexed by Detection::model). Returns the frame's instances: every
@@ -133,7 +138,11 @@ class TrackSet {
   std::vector<Detection> Update(const TrackFrame& frame, const std::vector<TrackModel>& models,
                                 const std::vector<Detection>& recognized, std::string* events);
   /// Forgets every track (a model switch, a RESET); ids go on from where they were.
-  void Clear() { tracks_.clear(); }
+  void Clear() {
+    tracks_.clear();
+    unheld_frames_.clear();
+    sweeps_ = 0;
+  }
   void SetOptions(const TrackingOptions& options) { options_ = options; }
   const TrackingOptions& options() const { return options_; }
   std::size_t size() const { return tracks_.size(); }
@@ -168,10 +177,13 @@ class TrackSet {
   bool ModelHeld(int model) const;
   bool Due(const Track& t) const;  // held, and its re-check is due
   bool RecheckDue() const;         // some track's is
+  const Track* MostOverdue() const;
+  bool AnyHeld() const;
 
   TrackingOptions options_;
   std::vector<Track> tracks_;  // oldest first
   int next_id_ = 0;
+  std::vector<Eigen::Vector3f> centroids_;  // each model's centroid, its frame (last Update's)
   std::vector<int> unheld_frames_;  // per model no track holds: frames since it was swept for
   int sweeps_ = 0;                  // sweeps so far (their windows walk outward)
 };

@@ -14,7 +14,7 @@ namespace saccade {
 namespace {
 
 // The rotation's damping, a share of its mean curvature (TrackPose). make bench-track holds
-// 1394-1408 of its 1418 visible frames within tolerance for any share from 1e-4 to 1
+// 1394-1408 of its 1482 visible frames within tolerance for any share from 1e-4 to 1
 // (docs/BENCHMARKS.md): the gentlest that stops noise-driven spin is kept.
 constexpr double kRotationDamping = 0.01;
 
@@ -109,7 +109,7 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
     }
     result.iterations = it + 1;
     if (used < 6) break;
-    // Damping (Levenberg's), towards the prediction, a share of each block's mean curvature: a
+    // Damping (Levenberg's), towards the current estimate, a share of each block's mean curvature: a
     // motion the surface does not constrain (a can's turn about its own axis, a plane's slide
     // along itself) has a near-zero pivot and would otherwise take whatever the noise gives it,
     // spinning the pose about the can instead of following it; the constrained ones are slowed

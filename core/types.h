@@ -46,8 +46,9 @@ struct Box {
 
 /// Where a tracked object stands in a frame (instance_t's track_state; attention/tracks.h).
 /// kNone: recognition's instance, not tracked (tracking is off, max_tracks are held, a second
-/// instance of a tracked model below tracking.min_extra_track_confidence, or one far from where
-/// its model's track was lost: tracking.reacquire_radius_m). kTracking: refined from
+/// instance of a tracked model below tracking.min_extra_track_confidence, one far from where
+/// its model's track was lost: tracking.reacquire_radius_m, or one where another model's track
+/// stands). kTracking: refined from
 /// the last frame and the frame supports it. kLost: this frame no longer supports it (published
 /// once, at the last pose). kSearching: lost for more than one frame, attention searching.
 /// kReacquired: recognition found it this frame (first found, after a loss, or a track that

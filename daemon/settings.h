@@ -79,14 +79,6 @@ inline RecognitionOptions DaemonRecognitionOptions() {
   return o;
 }
 
-/// Attention as saccaded runs it: each held track visited in turn (its re-checks are made at
-/// it), as many as tracking.max_tracks.
-inline AttentionOptions DaemonAttentionOptions() {
-  AttentionOptions o;
-  o.max_targets = TrackingOptions{}.max_tracks;
-  return o;
-}
-
 struct DaemonSettings {
   SourceOptions source;
   /// Model PCD files, or synthetic:target (the synthetic Kinect's target, for demos).
@@ -94,7 +86,7 @@ struct DaemonSettings {
   Eigen::Vector3f initial_fovea_m{0.0f, 0.0f, 1.0f};  // camera frame, before any detection
   RecognitionOptions recognition = DaemonRecognitionOptions();
   FoveaOptions fovea;  // growth_m is attention's to set: a file may not
-  AttentionOptions attention = DaemonAttentionOptions();
+  AttentionOptions attention;
   TrackingOptions tracking;
   SaliencyOptions saliency;
   PipelineOptions pipeline;

@@ -101,13 +101,18 @@ void RecognizeStage::Process(Job* job) {
   if (job->sweep_phase >= 0) {  // the whole frame, one window of the budget, for lost models
     q.foveated = false;
     q.search_phase = job->sweep_phase;
+  } else if (job->recheck_at) {  // at the track, G = 0, the nearest window
+    q.foveated = true;
+    q.fovea_m = *job->recheck_at;
+    q.fovea.growth_m.setZero();
+    q.search_phase = 0;
   }
   FrameDetections& out = job->detections;
   out.seq = static_cast<std::int64_t>(frame.sequence);
   out.capture_utime = frame.capture_utime;
   out.foveated = q.foveated;
   out.fovea_m = q.fovea_m;
-  out.growth_m = job->used.growth_m;
+  out.growth_m = q.fovea.growth_m.x();
   out.fixation_seq = job->used.frame_seq;
   for (const auto& model : c.models) out.models.push_back(model->name);
   if (!job->recognize) return;  // the tracks hold: recognize_ms stays 0
@@ -122,10 +127,12 @@ void RecognizeStage::Process(Job* job) {
   const ParallelFor parallel = TbbParallelFor();
   // A re-check (tracks held, some due) looks at the track only: its own keypoint budget.
   RecognitionOptions options = c.recognition;
-  if (!job->models.empty() && job->sweep_phase < 0 && c.tracking.recheck_max_keypoints > 0)
+  if (job->recheck_at && c.tracking.recheck_max_keypoints > 0)
     options.max_scene_keypoints = c.tracking.recheck_max_keypoints;
+  // The mask is of the models the job was planned with: a reload since then runs them all.
+  const bool masked = job->models.size() == c.models.size();
   for (std::size_t m = 0; m < c.models.size(); ++m) {
-    if (m < job->models.size() && !job->models[m]) continue;  // its tracks hold, none due
+    if (masked && !job->models[m]) continue;  // its tracks hold, none due
     std::string error;
     RecognitionResult r =
         Recognize(c.models[m]->description, *frame.cloud, q, options, parallel, &error);
@@ -146,7 +153,10 @@ void TrackStage::PlanRecognition(Job* job) const {
   job->recognize = clear_ || tracks_.NeedsRecognition();
   job->sweep_phase = job->recognize && !clear_ ? tracks_.SweepPhase() : -1;
   job->models.clear();
-  if (job->recognize && !clear_) job->models = tracks_.ModelsToRecognize();
+  job->recheck_at.reset();
+  if (!job->recognize || clear_) return;
+  job->models = tracks_.ModelsToRecognize();
+  if (job->sweep_phase < 0) job->recheck_at = tracks_.RecheckAt();
 }
 
 void TrackStage::Clear() {

@@ -51,6 +51,9 @@ struct Job {
   int sweep_phase = -1;
   /// The models recognition runs for, by index (TrackSet::ModelsToRecognize); empty: all.
   std::vector<bool> models;
+  /// A re-check: recognition looks here (camera frame, G = 0) instead of at the fovea
+  /// (TrackSet::RecheckAt).
+  std::optional<Eigen::Vector3f> recheck_at;
   std::shared_ptr<const StageConfig> config;  // what the frame runs with (set by Recognize)
   FrameDetections detections;            // what recognition found; after Track, what is published
   std::vector<Eigen::Vector3f> salient;  // the coarse level's salient regions (saccade fallback)
@@ -89,8 +92,8 @@ class RecognizeStage {
 class TrackStage {
  public:
   explicit TrackStage(const TrackingOptions& options) : tracks_(options) {}
-  /// Whether the next frame needs recognition, and whether that is a sweep: job->recognize and
-  /// job->sweep_phase. Thread-safe.
+  /// Whether the next frame needs recognition, and what for: job->recognize, job->sweep_phase,
+  /// job->recheck_at and job->models. Thread-safe.
   void PlanRecognition(Job* job) const;
   /// Serial, in frame order.
   void Process(Job* job);

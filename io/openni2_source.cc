@@ -458,8 +458,8 @@ class PlaybackSource : public StreamSource {
 
 }  // namespace
 
-std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device,
-                                                 double wait_at_start_s, std::string* error) {
+std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device, double wait_at_start_s,
+                                                 std::string* error) {
   if (!InitializeOpenNI(error)) return nullptr;
   auto source = std::make_unique<DeviceSource>();
   if (!source->Open(device, wait_at_start_s, error)) return nullptr;

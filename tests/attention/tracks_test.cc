@@ -264,13 +264,40 @@ TEST(TrackSet, AModelNoTrackHoldsIsSweptForAndAnotherModelsPlaceIsNotItsTrack) {
       f.recognized_models = tracks.ModelsToRecognize();
       EXPECT_EQ(f.recognized_models, (std::vector<bool>{!f.sweep, f.sweep})) << "frame " << seq;
     }
-    // A sweep's window holds nothing: model 0's track is not missed for it.
-    out = tracks.Update(f, models, {}, nullptr);
+    // A sweep's window holds nothing: model 0's track is not missed for it; its re-checks
+    // find it.
+    out = tracks.Update(
+        f, models,
+        recognize && !f.sweep ? std::vector<Detection>{d.Found()} : std::vector<Detection>{},
+        nullptr);
     ASSERT_EQ(out.size(), 1u);
     EXPECT_EQ(out[0].track_state, TrackState::kTracking) << "frame " << seq;
   }
   EXPECT_FALSE(sweeps.empty());
   for (std::size_t k = 1; k < sweeps.size(); ++k) EXPECT_GE(sweeps[k] - sweeps[k - 1], 4);
+  // A re-check looks at the track, whatever attention follows.
+  tracks.Update(d.Frame(12, d.demo.scene.cloud, false), models, {}, nullptr);
+  while (!tracks.RecheckAt())
+    tracks.Update(d.Frame(13, d.demo.scene.cloud, false), models, {}, nullptr);
+  EXPECT_LT((*tracks.RecheckAt() - d.demo.truth * d.model->centroid()).norm(), 0.01f);
+  // What a sweep finds of model 1 away from model 0's track becomes its track.
+  while (tracks.SweepPhase() < 0) {
+    TrackFrame f = d.Frame(14, d.demo.scene.cloud, tracks.NeedsRecognition());
+    tracks.Update(f, models,
+                  f.recognized ? std::vector<Detection>{d.Found()} : std::vector<Detection>{},
+                  nullptr);
+  }
+  Eigen::Matrix4f there = d.demo.truth.matrix();
+  there(0, 3) += 0.3f;
+  Detection found = d.Found(there);
+  found.model = 1;
+  TrackFrame f = d.Frame(15, d.demo.scene.cloud, true);
+  f.sweep = true;
+  out = tracks.Update(f, models, {found}, nullptr);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[1].model, 1);
+  EXPECT_EQ(out[1].track_state, TrackState::kReacquired);
+  EXPECT_NE(out[1].track_id, out[0].track_id);
 }
 
 TEST(TrackSet, WithTrackingOffRecognitionsInstancesPassThrough) {

@@ -429,6 +429,56 @@ TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
 }
 
+// demo.yaml with the source an OpenNI2 camera waited for `wait_s` at start.
+std::string LateCameraConfig(const Sandbox& box, double wait_s) {
+  std::string text = ReadFile(kSourceDir + "/configs/demo.yaml");
+  const std::size_t at = text.find("source: ");
+  text.replace(at, text.find('\n', at) - at,
+               "source:\n  spec: \"openni2://\"\n  wait_at_start_s: " + std::to_string(wait_s));
+  const std::string config = box.Path("late.yaml");
+  std::ofstream(config) << text;
+  return config;
+}
+
+// The virtual OpenNI2 camera (through the real libOpenNI2) serves a folder that is not there
+// when saccaded starts: it waits, saying so in STATUS, and streams once the folder appears.
+TEST(Saccaded, ACameraThatComesLateIsWaitedForThenStreams) {
+  Sandbox box;
+  StatusWatch watch(box.url);
+  const std::string frames = box.Path("frames"), camera = box.Path("camera");
+  ASSERT_EQ(Wait(Spawn({kSaccade, "record", "--source", "synthetic:static?frames=10", "--out",
+                        frames, "--format", "depth"},
+                       box.Path("rec.out"), box.Path("rec.err")))
+                .code,
+            0);
+  Child daemon = Spawn({kSaccaded, "--config", LateCameraConfig(box, 120), "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"),
+                       {"LD_LIBRARY_PATH=" + std::string(SACCADE_OPENNI2_RUNTIME),
+                        "SACCADE_VIRTUAL_DEVICE=" + camera});
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
+    return s.source_state.rfind("waiting for device", 0) == 0 && s.frames_processed == 0;
+  })) << ReadFile(box.Path("err"));
+  fs::rename(frames, camera);  // the camera is plugged in
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
+    return s.source_state == "streaming" && s.frames_processed >= 5;
+  })) << ReadFile(box.Path("err"));
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
+}
+
+// A camera that never comes ends the wait with one line and exit code 1.
+TEST(Saccaded, ACameraThatNeverComesEndsTheWaitWithOneLine) {
+  Sandbox box;
+  Child daemon = Spawn({kSaccaded, "--config", LateCameraConfig(box, 1), "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"),
+                       {"LD_LIBRARY_PATH=" + std::string(SACCADE_OPENNI2_RUNTIME),
+                        "SACCADE_VIRTUAL_DEVICE=" + box.Path("no-camera")});
+  EXPECT_EQ(daemon.Wait().code, 1);
+  const std::string err = ReadFile(box.Path("err"));
+  EXPECT_NE(err.find("openni2://"), std::string::npos) << err;
+  EXPECT_NE(err.find("s for it)"), std::string::npos) << err;
+}
+
 TEST(Saccaded, AFastLiveSourceDropsFramesButNotMemory) {
   Sandbox box;
   Logger logger(box, "fast.lcmlog");

@@ -34,8 +34,7 @@ TEST(DaemonSettings, ShippedFileHoldsSaccadesDefaults) {
   EXPECT_TRUE(s.pipeline == saccade.pipeline);
   EXPECT_TRUE(s.attention == saccade.attention);
   EXPECT_TRUE(s.tracking == saccade.tracking);
-  // Each held track visited in turn (the paper: 1).
-  EXPECT_EQ(s.attention.max_targets, s.tracking.max_tracks);
+  EXPECT_EQ(s.attention.max_targets, 1);  // tracks are re-checked where they are
   EXPECT_FALSE(s.attention.predict);  // off: the paper's behaviour
   EXPECT_TRUE(s.models.empty());      // the one thing a user must set
 }
