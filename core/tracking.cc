@@ -109,8 +109,8 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
     }
     result.iterations = it + 1;
     if (used < 6) break;
-    // Damping (Levenberg's), towards the current estimate, a share of each block's mean curvature: a
-    // motion the surface does not constrain (a can's turn about its own axis, a plane's slide
+    // Damping (Levenberg's), towards the current estimate, a share of each block's mean curvature:
+    // a motion the surface does not constrain (a can's turn about its own axis, a plane's slide
     // along itself) has a near-zero pivot and would otherwise take whatever the noise gives it,
     // spinning the pose about the can instead of following it; the constrained ones are slowed
     // by about that share per step.

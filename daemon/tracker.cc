@@ -240,7 +240,8 @@ std::unique_ptr<Tracker> Tracker::Open(const DaemonSettings& settings, Heartbeat
   if (!models) return nullptr;
   std::unique_ptr<Bus> bus = OpenLcmBus(settings.bus, error);
   if (!bus) return nullptr;
-  std::unique_ptr<FrameSource> source = OpenSource(settings.source.spec, error, settings.source.wait_at_start_s);
+  std::unique_ptr<FrameSource> source =
+      OpenSource(settings.source.spec, error, settings.source.wait_at_start_s);
   if (!source) return nullptr;
   return std::unique_ptr<Tracker>(new Tracker(std::make_unique<Impl>(
       settings, std::move(*models), std::move(source), std::move(bus), std::move(heartbeat))));

@@ -23,8 +23,8 @@ class OpenNI2Source : public FrameSource {
 /// device that is not there at start fails at once with `wait_at_start_s` 0; with more, the
 /// source opens and waits that long for it (Stats().state "waiting for device: why", the same
 /// back-off), after which Next() returns the error.
-std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device,
-                                                 double wait_at_start_s, std::string* error);
+std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device, double wait_at_start_s,
+                                                 std::string* error);
 
 struct OniPlaybackOptions {
   enum class Mode {

@@ -35,8 +35,8 @@ TEST(DaemonSettings, ShippedFileHoldsSaccadesDefaults) {
   EXPECT_TRUE(s.attention == saccade.attention);
   EXPECT_TRUE(s.tracking == saccade.tracking);
   EXPECT_EQ(s.attention.max_targets, 1);  // tracks are re-checked where they are
-  EXPECT_FALSE(s.attention.predict);  // off: the paper's behaviour
-  EXPECT_TRUE(s.models.empty());      // the one thing a user must set
+  EXPECT_FALSE(s.attention.predict);      // off: the paper's behaviour
+  EXPECT_TRUE(s.models.empty());          // the one thing a user must set
 }
 
 TEST(DaemonSettings, PaperFileHoldsTables1And2) {
