@@ -232,8 +232,7 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       const int lost_for = t.lost_seq >= 0 ? static_cast<int>(frame.seq - t.lost_seq) : 0;
       // Held until this frame (lost on it) and found again near: the motion from its last pose
       // to recognition's is the prediction's (a fast object outruns a track that starts still).
-      const bool was_held = !t.fresh && t.lost_seq == frame.seq;
-      t.fresh = false;
+      const bool was_held = t.lost_seq == frame.seq;  // a new track's is -1
       const Eigen::Matrix4f last = t.pose;
       const double last_s = t.time_s;
       t.state = TrackState::kReacquired;

@@ -163,7 +163,6 @@ class TrackSet {
     int unconfirmed = 0;         // re-checks in a row that did not find it
     std::int64_t lost_seq = -1;  // the frame it was lost on, -1 while held
     Detection found;             // recognition's instance when it was last (re-)acquired
-    bool fresh = true;           // not acquired yet: no pose to predict from
     Eigen::Matrix4f PredictedAt(double time_s) const;
   };
 

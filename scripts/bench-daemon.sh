@@ -42,10 +42,7 @@ for preset in static linear circular occluded leave-return; do
 done
 if [ -d "$data/mosd_xcap" ]; then
   for f in configs/sequences/*.yaml; do
-    models="capture:$f?data=$data"
-    for k in $(sed -n 's/^others: *\[\(.*\)\].*/\1/p' "$f" | tr ',' ' '); do
-      models="$models,capture:$f?data=$data&object=$k"
-    done
+    models=$(./scripts/sequence-models.sh "$f" "$data")
     run "$(basename "$f" .yaml) (real)" "capture:$f?data=$data" configs/saccaded.yaml 1 "$models"
   done
 else

@@ -29,10 +29,7 @@ done
 if [ -d "$data/mosd_xcap" ]; then
   for f in configs/sequences/*.yaml; do
     name=$(basename "$f" .yaml)
-    models="capture:$f?data=$data"
-    for k in $(sed -n 's/^others: *\[\(.*\)\].*/\1/p' "$f" | tr ',' ' '); do
-      models="$models,capture:$f?data=$data&object=$k"
-    done
+    models=$(./scripts/sequence-models.sh "$f" "$data")
     if [ "$models" != "capture:$f?data=$data" ]; then  # the same frames, one object tracked
       run "$name-one-tracked" "capture:$f?rate=0&data=$data" "capture:$f?data=$data" 2 5
     fi

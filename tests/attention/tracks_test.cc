@@ -48,6 +48,12 @@ struct Demo : testing::DescribedDemo {
     f.searched_half_m = 0.25f;
     return f;
   }
+  /// Found on frame 0, confirmed on frame 1, lost on frame 2 (the object's pixels emptied).
+  void FindThenLose(TrackSet* tracks) const {
+    tracks->Update(Frame(0, demo.scene.cloud, true), Models(), {Found()}, nullptr);
+    tracks->Update(Frame(1, demo.scene.cloud, true), Models(), {Found()}, nullptr);
+    tracks->Update(Frame(2, empty, false), Models(), {}, nullptr);
+  }
   Cloud empty;
 };
 
@@ -126,9 +132,7 @@ TEST(TrackSet, ATrackThatLosesItsObjectIsLostOnThatFrameThenSearchingAndKeepsIts
 TEST(TrackSet, ALostTrackIsNotReacquiredByALookAlikeFarFromWhereItWasLost) {
   const Demo& d = TheDemo();
   TrackSet tracks(TrackingOptions{});
-  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
-  tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
-  tracks.Update(d.Frame(2, d.empty, false), d.Models(), {}, nullptr);  // lost
+  d.FindThenLose(&tracks);
   // While it hides, recognition finds a look-alike 30 cm away, as confident as a true instance
   // usually is but below min_extra_track_confidence: published untracked, the track searches on.
   Eigen::Matrix4f there = d.demo.truth.matrix();
@@ -155,9 +159,7 @@ TEST(TrackSet, ALostTrackIsNotReacquiredByALookAlikeFarFromWhereItWasLost) {
   EXPECT_EQ(out[1].track_state, TrackState::kNone);
   // Far away but as confident as a second track must be: that moves it.
   TrackSet other(TrackingOptions{});
-  other.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
-  other.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
-  other.Update(d.Frame(2, d.empty, false), d.Models(), {}, nullptr);
+  d.FindThenLose(&other);
   out = other.Update(d.Frame(3, d.empty, true), d.Models(), {d.Found(there)}, nullptr);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
