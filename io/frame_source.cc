@@ -541,8 +541,29 @@ std::unique_ptr<FrameSource> OpenSource(const std::string& text, std::string* er
   if (spec->kind == "pcd" || spec->kind == "depth") return OpenFiles(*spec, error);
   if (spec->kind == "synthetic") return OpenSynthetic(*spec, error);
   if (spec->kind == "capture") return OpenCapture(*spec, error);
+  ColourOptions colour;
+  if (spec->kind == "oni" || spec->kind == "openni2") {
+    if (!OptionBool(*spec, "colour", &colour.enabled, error)) return nullptr;
+    const auto registration = spec->options.find("registration");
+    if (registration != spec->options.end()) {
+      using R = ColourOptions::Registration;
+      const std::map<std::string, R> names = {{"auto", R::kAuto},
+                                              {"device", R::kDevice},
+                                              {"saccade", R::kSaccade},
+                                              {"none", R::kNone}};
+      const auto it = names.find(registration->second);
+      if (it == names.end()) {
+        Fail(error, "source '" + text + "': registration must be auto, device, saccade or none");
+        return nullptr;
+      }
+      colour.registration = it->second;
+    }
+    const auto calibration = spec->options.find("calibration");
+    if (calibration != spec->options.end()) colour.calibration = calibration->second;
+  }
   if (spec->kind == "oni") {
-    if (!OnlyOptions(*spec, {"mode", "loop"}, error)) return nullptr;
+    if (!OnlyOptions(*spec, {"mode", "loop", "colour", "registration", "calibration"}, error))
+      return nullptr;
     OniPlaybackOptions o;
     if (!OptionBool(*spec, "loop", &o.loop, error)) return nullptr;
     const auto mode = spec->options.find("mode");
@@ -558,10 +579,10 @@ std::unique_ptr<FrameSource> OpenSource(const std::string& text, std::string* er
         return nullptr;
       }
     }
-    return OpenOniPlayback(spec->target, o, error);
+    return OpenOniPlayback(spec->target, o, colour, error);
   }
-  if (!OnlyOptions(*spec, {}, error)) return nullptr;
-  return OpenOpenNI2Device(spec->target, wait_at_start_s, error);
+  if (!OnlyOptions(*spec, {"colour", "registration", "calibration"}, error)) return nullptr;
+  return OpenOpenNI2Device(spec->target, colour, wait_at_start_s, error);
 }
 
 std::int64_t SteadyNowNs() {

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <map>
 #include <memory>
@@ -142,10 +143,15 @@ std::string RgbPartner(const std::string& depth_path) {
   return std::filesystem::exists(partner) ? partner.string() : "";
 }
 
-bool ReadIntrinsicsFile(const std::string& path, IntrinsicsFile* k, std::string* error) {
+namespace {
+
+// A file of "key: number" lines (comments after '#'): only `keys`, each of `required` once.
+bool ReadKeyValues(const std::string& path, const char* what,
+                   std::initializer_list<const char*> keys,
+                   std::initializer_list<const char*> required, std::map<std::string, double>* values,
+                   std::string* error) {
   std::ifstream in(path);
-  if (!in) return Fail(error, path, "cannot open intrinsics file");
-  std::map<std::string, double> values;
+  if (!in) return Fail(error, path, std::string("cannot open ") + what);
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     const auto hash = line.find('#');
@@ -160,21 +166,69 @@ bool ReadIntrinsicsFile(const std::string& path, IntrinsicsFile* k, std::string*
     if (colon == std::string::npos || !(value_in >> value) || (value_in >> rest) ||
         !std::isfinite(value))
       return Fail(error, path, "line " + std::to_string(number) + ": expected 'key: number'");
-    static const char* kKeys[] = {"fx", "fy", "cx", "cy", "width", "height"};
-    if (std::find(std::begin(kKeys), std::end(kKeys), key) == std::end(kKeys))
+    if (std::none_of(keys.begin(), keys.end(), [&](const char* k) { return key == k; }))
       return Fail(error, path, "line " + std::to_string(number) + ": unknown key '" + key + "'");
-    values[key] = value;
+    (*values)[key] = value;
   }
-  for (const char* key : {"fx", "fy", "cx", "cy", "width", "height"})
-    if (!values.count(key)) return Fail(error, path, std::string("missing key '") + key + "'");
+  for (const char* key : required)
+    if (!values->count(key)) return Fail(error, path, std::string("missing key '") + key + "'");
+  return true;
+}
+
+const std::initializer_list<const char*> kIntrinsicsKeys = {"fx", "fy", "cx",
+                                                                "cy", "width", "height"};
+
+bool IntrinsicsFrom(const std::string& path, std::map<std::string, double>& values,
+                    IntrinsicsFile* k, std::string* error) {
   k->fx = values["fx"];
   k->fy = values["fy"];
   k->cx = values["cx"];
   k->cy = values["cy"];
+  if (!(values["width"] >= 1 && values["width"] <= 1 << 16 && values["height"] >= 1 &&
+        values["height"] <= 1 << 16 && k->fx > 0 && k->fy > 0))
+    return Fail(error, path, "fx and fy must be > 0, width and height 1-65536");
   k->width = static_cast<int>(values["width"]);
   k->height = static_cast<int>(values["height"]);
-  if (!(k->fx > 0 && k->fy > 0 && k->width > 0 && k->height > 0))
-    return Fail(error, path, "fx, fy, width and height must be > 0");
+  return true;
+}
+
+}  // namespace
+
+bool ReadIntrinsicsFile(const std::string& path, IntrinsicsFile* k, std::string* error) {
+  std::map<std::string, double> values;
+  return ReadKeyValues(path, "intrinsics file", kIntrinsicsKeys, kIntrinsicsKeys, &values,
+                       error) &&
+         IntrinsicsFrom(path, values, k, error);
+}
+
+bool ReadColourCameraFile(const std::string& path, ColourCameraFile* c, std::string* error) {
+  std::map<std::string, double> values;
+  if (!ReadKeyValues(path, "colour camera file",
+                     {"fx", "fy", "cx", "cy", "width", "height", "tx", "ty", "tz", "rx", "ry", "rz"},
+                     kIntrinsicsKeys, &values, error) ||
+      !IntrinsicsFrom(path, values, &c->intrinsics, error))
+    return false;
+  const char* t[] = {"tx", "ty", "tz"};
+  const char* r[] = {"rx", "ry", "rz"};
+  for (int i = 0; i < 3; ++i) {
+    c->t[i] = values.count(t[i]) ? values[t[i]] : 0.0;
+    c->r[i] = values.count(r[i]) ? values[r[i]] : 0.0;
+  }
+  return true;
+}
+
+bool WriteColourCameraFile(const std::string& path, const ColourCameraFile& c,
+                           std::string* error) {
+  std::ofstream out(path);
+  out.precision(10);
+  const IntrinsicsFile& k = c.intrinsics;
+  out << "# the colour camera: pinhole intrinsics of its images (pixels), and its place in the\n"
+      << "# depth camera's frame: position tx, ty, tz (metres), rotation vector rx, ry, rz (rad)\n"
+      << "fx: " << k.fx << "\nfy: " << k.fy << "\ncx: " << k.cx << "\ncy: " << k.cy
+      << "\nwidth: " << k.width << "\nheight: " << k.height << "\ntx: " << c.t[0]
+      << "\nty: " << c.t[1] << "\ntz: " << c.t[2] << "\nrx: " << c.r[0] << "\nry: " << c.r[1]
+      << "\nrz: " << c.r[2] << "\n";
+  if (!out) return Fail(error, path, "cannot write colour camera file");
   return true;
 }
 

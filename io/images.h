@@ -42,4 +42,18 @@ bool ReadIntrinsicsFile(const std::string& path, IntrinsicsFile* intrinsics, std
 bool WriteIntrinsicsFile(const std::string& path, const IntrinsicsFile& intrinsics,
                          std::string* error);
 
+/// The colour camera of a two-camera sensor (colour.yaml beside depth images, or a spec's
+/// calibration= file), in the same "key: value" form: its intrinsics (fx, fy, cx, cy, width,
+/// height, pixels) and its place in the depth camera's frame: tx, ty, tz (its origin, metres)
+/// and rx, ry, rz (its rotation, a rotation vector in radians), each 0 when absent.
+struct ColourCameraFile {
+  IntrinsicsFile intrinsics;
+  double t[3] = {0, 0, 0};
+  double r[3] = {0, 0, 0};
+};
+inline constexpr char kColourCameraFileName[] = "colour.yaml";
+bool ReadColourCameraFile(const std::string& path, ColourCameraFile* colour, std::string* error);
+bool WriteColourCameraFile(const std::string& path, const ColourCameraFile& colour,
+                           std::string* error);
+
 }  // namespace saccade

@@ -2,6 +2,8 @@
 
 #include "core/fail.h"
 
+#include "core/registration.h"
+#include "io/images.h"
 #include "io/mailbox.h"
 
 #include <OpenNI.h>
@@ -9,7 +11,9 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <condition_variable>
+#include <deque>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -56,31 +60,63 @@ CameraIntrinsics IntrinsicsOf(openni::VideoStream& stream) {
   return k;
 }
 
-bool ToFrame(const openni::VideoFrameRef& ref, const CameraIntrinsics& k, Frame* frame,
-             std::string* error) {
+// A stream's pixels packed row after row (repacked when the stream pads its rows).
+template <typename T>
+const T* Packed(const openni::VideoFrameRef& ref, int channels, std::vector<T>* repacked) {
+  const int row_bytes = ref.getWidth() * channels * static_cast<int>(sizeof(T));
+  if (ref.getStrideInBytes() == row_bytes) return static_cast<const T*>(ref.getData());
+  repacked->resize(static_cast<std::size_t>(ref.getWidth()) * ref.getHeight() * channels);
+  const auto* bytes = static_cast<const std::uint8_t*>(ref.getData());
+  for (int v = 0; v < ref.getHeight(); ++v)
+    std::memcpy(repacked->data() + static_cast<std::size_t>(v) * ref.getWidth() * channels,
+                bytes + static_cast<std::size_t>(v) * ref.getStrideInBytes(), row_bytes);
+  return repacked->data();
+}
+
+// How a depth frame becomes a cloud: the depth camera, and where colour comes from.
+struct Conversion {
+  CameraIntrinsics depth;     // the depth stream's camera
+  bool register_colour = false;  // Saccade's registration: the depth moved into `colour`
+  ColourCalibration calibration;
+};
+
+// A depth frame (and its colour frame, when paired) as a cloud in metres.
+bool ToFrame(const openni::VideoFrameRef& ref, const openni::VideoFrameRef* colour,
+             const Conversion& c, Frame* frame, std::string* error) {
+  const CameraIntrinsics& k = c.depth;
   const auto format = ref.getVideoMode().getPixelFormat();
   if (format != openni::PIXEL_FORMAT_DEPTH_1_MM && format != openni::PIXEL_FORMAT_DEPTH_100_UM)
     return Fail(error, "OpenNI2 stream: not a depth format (" + std::to_string(format) + ")");
   if (ref.getWidth() != k.width || ref.getHeight() != k.height || ref.getCropOriginX() != 0)
     return Fail(error, "OpenNI2 stream: frame size differs from the stream's video mode");
-  const auto* data = static_cast<const std::uint16_t*>(ref.getData());
-  // Millimetres packed row after row are the common case and convert in place; other layouts
-  // are repacked first.
-  std::vector<std::uint16_t> mm;
-  const bool packed = ref.getStrideInBytes() == k.width * static_cast<int>(sizeof(std::uint16_t));
-  if (!packed || format == openni::PIXEL_FORMAT_DEPTH_100_UM) {
-    mm.resize(static_cast<std::size_t>(k.width) * k.height);
-    const auto* bytes = static_cast<const std::uint8_t*>(ref.getData());
-    for (int v = 0; v < k.height; ++v) {
-      const auto* row = reinterpret_cast<const std::uint16_t*>(bytes + v * ref.getStrideInBytes());
-      for (int u = 0; u < k.width; ++u)
-        mm[static_cast<std::size_t>(v) * k.width + u] =
-            format == openni::PIXEL_FORMAT_DEPTH_100_UM ? row[u] / 10 : row[u];
-    }
-    data = mm.data();
+  std::vector<std::uint16_t> repacked;
+  const std::uint16_t* data = Packed(ref, 1, &repacked);
+  if (format == openni::PIXEL_FORMAT_DEPTH_100_UM) {
+    if (repacked.empty()) repacked.assign(data, data + static_cast<std::size_t>(k.width) * k.height);
+    for (auto& d : repacked) d = static_cast<std::uint16_t>(d / 10);
+    data = repacked.data();
   }
-  frame->intrinsics = k;
-  frame->cloud = std::make_shared<const Cloud>(DepthToCloud(data, nullptr, k));
+  const CameraIntrinsics& out_k = c.register_colour ? c.calibration.colour : k;
+  std::vector<std::uint8_t> rgb_repacked;
+  const std::uint8_t* rgb = nullptr;
+  if (colour) {
+    if (colour->getVideoMode().getPixelFormat() != openni::PIXEL_FORMAT_RGB888)
+      return Fail(error, "OpenNI2 colour stream: not RGB888");
+    if (colour->getWidth() != out_k.width || colour->getHeight() != out_k.height)
+      return Fail(error, "OpenNI2 colour stream: a " + std::to_string(colour->getWidth()) + "x" +
+                             std::to_string(colour->getHeight()) + " frame where " +
+                             std::to_string(out_k.width) + "x" + std::to_string(out_k.height) +
+                             " was set up");
+    rgb = Packed(*colour, 3, &rgb_repacked);
+  }
+  frame->intrinsics = out_k;
+  if (c.register_colour) {
+    const auto registered =
+        RegisterDepth(data, k, c.calibration.colour_from_depth, c.calibration.colour);
+    frame->cloud = std::make_shared<const Cloud>(DepthToCloud(registered.data(), rgb, out_k));
+  } else {
+    frame->cloud = std::make_shared<const Cloud>(DepthToCloud(data, rgb, k));
+  }
   frame->capture_utime = static_cast<std::int64_t>(ref.getTimestamp());
   return true;
 }
@@ -90,6 +126,12 @@ bool ToFrame(const openni::VideoFrameRef& ref, const CameraIntrinsics& k, Frame*
 bool ResolveDevice(const std::string& device, std::string* uri, std::string* error) {
   const std::string spec = "openni2://" + device;
   uri->clear();
+  // A URI is opened as it is: libOpenNI2 asks its drivers about one it has not listed (a file,
+  // a folder of the virtual device), and says why when none takes it.
+  if (device.find("://") != std::string::npos) {
+    *uri = device;
+    return true;
+  }
   openni::Array<openni::DeviceInfo> list;
   openni::OpenNI::enumerateDevices(&list);
   std::vector<std::string> uris;
@@ -134,12 +176,14 @@ bool ResolveDevice(const std::string& device, std::string* uri, std::string* err
   return true;
 }
 
-// What the device and playback sources share: one depth stream, a recorder, the mailbox that
-// OpenNI2's callback thread fills, and the counters.
-class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameListener {
+// What the device and playback sources share: the depth stream and the colour stream beside
+// it, a recorder, the pairing of their frames, the mailbox that OpenNI2's callback threads fill,
+// and the counters.
+class StreamSource : public OpenNI2Source {
  public:
-  // Each derived class stops and closes the stream in its own destructor, while onNewFrame
-  // still resolves to it; by the time this one runs the stream is closed.
+  explicit StreamSource(const ColourOptions& colour) : colour_options_(colour) {}
+  // Each derived class stops and closes the streams in its own destructor, while OnFrame
+  // still resolves to it; by the time this one runs the streams are closed.
   ~StreamSource() override = default;
 
   Status Next(Frame* frame, std::string* error) override {
@@ -164,6 +208,7 @@ class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameL
     s.produced = produced_;
     s.dropped = mailbox_.dropped() + skipped_;
     s.reconnects = reconnects_;
+    s.unpaired = unpaired_;
     std::lock_guard<std::mutex> lock(mutex_);
     s.state = state_;
     return s;
@@ -173,7 +218,9 @@ class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameL
     std::lock_guard<std::mutex> lock(mutex_);
     if (recorder_.isValid()) return Fail(error, path + ": already recording");
     if (recorder_.create(path.c_str()) != openni::STATUS_OK ||
-        recorder_.attach(depth_) != openni::STATUS_OK || recorder_.start() != openni::STATUS_OK) {
+        recorder_.attach(depth_) != openni::STATUS_OK ||
+        (colour_.isValid() && recorder_.attach(colour_) != openni::STATUS_OK) ||
+        recorder_.start() != openni::STATUS_OK) {
       recorder_.destroy();
       return Fail(error, path + ": cannot record: " + LastOpenNIError());
     }
@@ -194,56 +241,171 @@ class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameL
     std::string error;
   };
 
-  // Opens `uri` and its depth stream; the listener starts delivering frames.
-  bool OpenStream(const std::string& uri, std::string* error) {
+  // Opens `uri`, its depth stream and, when asked and there, its colour stream with the
+  // registration the options choose (`live`: a device, which may register; else a recording).
+  bool OpenStream(const std::string& uri, bool live, std::string* error) {
     if (device_.open(uri.c_str()) != openni::STATUS_OK)
       return Fail(error, uri + ": cannot open: " + LastOpenNIError());
-    if (!device_.hasSensor(openni::SENSOR_DEPTH) ||
-        depth_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK) {
-      device_.close();
+    if (!device_.hasSensor(openni::SENSOR_DEPTH))
       return Fail(error, uri + ": no depth stream: " + LastOpenNIError());
+    using Registration = ColourOptions::Registration;
+    const bool colour = colour_options_.enabled && device_.hasSensor(openni::SENSOR_COLOR);
+    Registration registration = colour_options_.registration;
+    if (colour) {
+      const bool offered =
+          live && device_.isImageRegistrationModeSupported(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR);
+      if (registration == Registration::kAuto)
+        registration = !live ? Registration::kNone
+                             : offered ? Registration::kDevice : Registration::kSaccade;
+      if (registration == Registration::kDevice && !offered)
+        return Fail(error, uri + ": the device offers no depth-to-colour registration "
+                                 "(registration=saccade registers with Saccade's own)");
+      const auto mode = registration == Registration::kDevice
+                            ? openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR
+                            : openni::IMAGE_REGISTRATION_OFF;
+      if (live && device_.getImageRegistrationMode() != mode &&
+          device_.setImageRegistrationMode(mode) != openni::STATUS_OK)
+        return Fail(error, uri + ": cannot set image registration: " + LastOpenNIError());
     }
-    intrinsics_ = IntrinsicsOf(depth_);
+    if (depth_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK)
+      return Fail(error, uri + ": no depth stream: " + LastOpenNIError());
+    conversion_ = Conversion{};
+    conversion_.depth = IntrinsicsOf(depth_);
+    const openni::VideoMode depth_mode = depth_.getVideoMode();
+    const int fps = depth_mode.getFps() > 0 ? depth_mode.getFps() : 30;
+    tolerance_us_ = 1000000 / (2 * fps);
+    if (!colour) return true;
+    if (colour_.create(device_, openni::SENSOR_COLOR) != openni::STATUS_OK)
+      return Fail(error, uri + ": cannot open the colour stream: " + LastOpenNIError());
+    if (live && !ChooseRgbMode(depth_mode))
+      return Fail(error, uri + ": the colour stream has no RGB888 mode");
+    const openni::VideoMode colour_mode = colour_.getVideoMode();
+    if (colour_mode.getPixelFormat() != openni::PIXEL_FORMAT_RGB888)
+      return Fail(error, uri + ": the colour stream is not RGB888 (format " +
+                             std::to_string(colour_mode.getPixelFormat()) + ")");
+    const std::string colour_size = std::to_string(colour_mode.getResolutionX()) + "x" +
+                                    std::to_string(colour_mode.getResolutionY());
+    if (registration != Registration::kSaccade) {
+      if (colour_mode.getResolutionX() != depth_mode.getResolutionX() ||
+          colour_mode.getResolutionY() != depth_mode.getResolutionY())
+        return Fail(error, uri + ": the colour stream is " + colour_size + " and the depth " +
+                               std::to_string(depth_mode.getResolutionX()) + "x" +
+                               std::to_string(depth_mode.getResolutionY()) +
+                               ": colour taken pixel for pixel needs one size "
+                               "(registration=saccade registers across sizes)");
+      return true;
+    }
+    conversion_.register_colour = true;
+    ColourCalibration& calibration = conversion_.calibration;
+    calibration.depth = conversion_.depth;
+    if (colour_options_.calibration.empty()) {
+      calibration.colour = IntrinsicsOf(colour_);
+      calibration.colour_from_depth = NominalKinectCalibration().colour_from_depth;
+      return true;
+    }
+    ColourCameraFile file;
+    if (!ReadColourCameraFile(colour_options_.calibration, &file, error)) return false;
+    const IntrinsicsFile& k = file.intrinsics;
+    if (k.width != colour_mode.getResolutionX() || k.height != colour_mode.getResolutionY())
+      return Fail(error, colour_options_.calibration + ": describes a " + std::to_string(k.width) +
+                             "x" + std::to_string(k.height) + " colour camera, the stream is " +
+                             colour_size);
+    calibration.colour.fx = k.fx, calibration.colour.fy = k.fy;
+    calibration.colour.cx = k.cx, calibration.colour.cy = k.cy;
+    calibration.colour.width = k.width, calibration.colour.height = k.height;
+    calibration.colour_from_depth = ColourFromDepth(file.t, file.r);
     return true;
   }
 
   bool StartStream(std::string* error) {
-    depth_.addNewFrameListener(this);
-    if (depth_.start() != openni::STATUS_OK) {
-      depth_.removeNewFrameListener(this);
-      return Fail(error, "cannot start the depth stream: " + LastOpenNIError());
+    ResetPairing();
+    depth_.addNewFrameListener(&depth_listener_);
+    if (colour_.isValid()) colour_.addNewFrameListener(&colour_listener_);
+    if (depth_.start() != openni::STATUS_OK ||
+        (colour_.isValid() && colour_.start() != openni::STATUS_OK)) {
+      RemoveListeners();
+      return Fail(error, "cannot start the streams: " + LastOpenNIError());
     }
     return true;
   }
 
   void CloseStream() {
     StopRecording();
-    if (depth_.isValid()) {
-      depth_.removeNewFrameListener(this);
-      depth_.stop();
-      depth_.destroy();
+    RemoveListeners();
+    ResetPairing();  // the frames held go back to their streams before the streams go
+    for (openni::VideoStream* stream : {&colour_, &depth_}) {
+      if (!stream->isValid()) continue;
+      stream->stop();
+      stream->destroy();
     }
     if (device_.isValid()) device_.close();
   }
 
-  // Reads one frame of the stream into an Item with the next sequence number.
-  Item ReadOne() {
-    Item item;
+  // A new frame is ready on the depth stream (`depth`) or the colour stream; called from
+  // OpenNI2's callback threads.
+  virtual void OnFrame(bool depth) = 0;
+
+  void RemoveListeners() {
+    if (depth_.isValid()) depth_.removeNewFrameListener(&depth_listener_);
+    if (colour_.isValid()) colour_.removeNewFrameListener(&colour_listener_);
+  }
+
+  // Reads the frame the depth (`depth`) or colour stream has ready and pairs it; what is ready
+  // to deliver goes to `out`. Returns false (with an error item in `out`) when it cannot read.
+  bool ReadAndPair(bool depth, std::vector<Item>* out) {
     openni::VideoFrameRef ref;
-    if (depth_.readFrame(&ref) != openni::STATUS_OK) {
+    if ((depth ? depth_ : colour_).readFrame(&ref) != openni::STATUS_OK) {
+      Item item;
       item.ok = false;
       item.error = "OpenNI2 stream: cannot read a frame: " + LastOpenNIError();
-      return item;
+      out->push_back(std::move(item));
+      return false;
+    }
+    std::lock_guard<std::mutex> lock(pair_mutex_);
+    if (!depth) {
+      colours_.push_back(ref);
+      if (colours_.size() > 4) colours_.pop_front();
+      if (pending_ && Near(*pending_, ref)) {
+        out->push_back(Deliver(*pending_, &ref));
+        pending_.reset();
+      }
+      return true;
     }
     // Frames libOpenNI2 skipped before reaching us count as dropped too.
     if (last_index_ > 0 && ref.getFrameIndex() > last_index_ + 1)
       skipped_ += static_cast<std::uint64_t>(ref.getFrameIndex() - last_index_ - 1);
     last_index_ = ref.getFrameIndex();
-    item.ok = ToFrame(ref, intrinsics_, &item.frame, &item.error);
-    item.frame.sequence = sequence_++;
-    item.frame.arrival_steady_ns = SteadyNowNs();
-    ++produced_;
-    return item;
+    if (!colour_.isValid()) {
+      out->push_back(Deliver(ref, nullptr));
+      return true;
+    }
+    if (pending_) {  // its colour did not come before the next depth frame
+      ++unpaired_;
+      out->push_back(Deliver(*pending_, nullptr));
+      pending_.reset();
+    }
+    const openni::VideoFrameRef* best = nullptr;
+    for (const auto& c : colours_)
+      if (Near(ref, c) && (!best || Gap(ref, c) < Gap(ref, *best))) best = &c;
+    if (best) {
+      out->push_back(Deliver(ref, best));
+    } else {
+      pending_ = ref;
+    }
+    return true;
+  }
+
+  // Delivers a depth frame still waiting for its colour, uncoloured (the stream ended).
+  void FlushPending(std::vector<Item>* out) {
+    std::lock_guard<std::mutex> lock(pair_mutex_);
+    if (!pending_) return;
+    ++unpaired_;
+    out->push_back(Deliver(*pending_, nullptr));
+    pending_.reset();
+  }
+  bool HasPending() const {
+    std::lock_guard<std::mutex> lock(pair_mutex_);
+    return pending_.has_value();
   }
 
   void SetState(const std::string& state) {
@@ -251,22 +413,90 @@ class StreamSource : public OpenNI2Source, public openni::VideoStream::NewFrameL
     state_ = state;
   }
 
+  // One listener a stream: libOpenNI2 keeps one callback handle a listener, and hands it a
+  // temporary VideoStream, so the listener itself says which stream it listens to.
+  class Listener : public openni::VideoStream::NewFrameListener {
+   public:
+    Listener(StreamSource* owner, bool depth) : owner_(owner), depth_(depth) {}
+    void onNewFrame(openni::VideoStream&) override { owner_->OnFrame(depth_); }
+
+   private:
+    StreamSource* owner_;
+    bool depth_;
+  };
+
+  const ColourOptions colour_options_;
+  Listener depth_listener_{this, true}, colour_listener_{this, false};
   openni::Device device_;
-  openni::VideoStream depth_;
+  openni::VideoStream depth_, colour_;
   openni::Recorder recorder_;
-  CameraIntrinsics intrinsics_;
   LatestMailbox<Item> mailbox_;
   std::atomic<bool> stopped_{false};
-  std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, skipped_{0};
-  std::uint64_t sequence_ = 0;
-  int last_index_ = 0;  // OpenNI2's own frame index of the last frame read
+  std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, skipped_{0}, unpaired_{0};
+  int last_index_ = 0;  // OpenNI2's own frame index of the last depth frame read
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   std::string state_ = "streaming";
+
+ private:
+  static std::uint64_t Gap(const openni::VideoFrameRef& a, const openni::VideoFrameRef& b) {
+    return a.getTimestamp() > b.getTimestamp() ? a.getTimestamp() - b.getTimestamp()
+                                               : b.getTimestamp() - a.getTimestamp();
+  }
+  bool Near(const openni::VideoFrameRef& a, const openni::VideoFrameRef& b) const {
+    return Gap(a, b) <= tolerance_us_;
+  }
+
+  // A colour mode for a live device: RGB888 at the depth's size when offered, else the
+  // largest RGB888 mode. False when there is none.
+  bool ChooseRgbMode(const openni::VideoMode& depth) {
+    const openni::SensorInfo& info = colour_.getSensorInfo();
+    const auto& modes = info.getSupportedVideoModes();
+    int best = -1;
+    for (int i = 0; i < modes.getSize(); ++i) {
+      if (modes[i].getPixelFormat() != openni::PIXEL_FORMAT_RGB888) continue;
+      const bool same = modes[i].getResolutionX() == depth.getResolutionX() &&
+                        modes[i].getResolutionY() == depth.getResolutionY();
+      if (best < 0 || same ||
+          modes[i].getResolutionX() > modes[best].getResolutionX())
+        best = i;
+      if (same) break;
+    }
+    if (best < 0) return false;
+    return colour_.getVideoMode().getPixelFormat() == openni::PIXEL_FORMAT_RGB888 &&
+                   colour_.getVideoMode().getResolutionX() == modes[best].getResolutionX() &&
+                   colour_.getVideoMode().getResolutionY() == modes[best].getResolutionY()
+               ? true
+               : colour_.setVideoMode(modes[best]) == openni::STATUS_OK;
+  }
+
+  void ResetPairing() {
+    std::lock_guard<std::mutex> lock(pair_mutex_);
+    pending_.reset();
+    colours_.clear();
+  }
+
+  // The depth frame (with its colour frame, or none) as an Item with the next sequence number.
+  Item Deliver(const openni::VideoFrameRef& depth, const openni::VideoFrameRef* colour) {
+    Item item;
+    item.ok = ToFrame(depth, colour, conversion_, &item.frame, &item.error);
+    item.frame.sequence = sequence_++;
+    item.frame.arrival_steady_ns = SteadyNowNs();
+    ++produced_;
+    return item;
+  }
+
+  Conversion conversion_;
+  std::uint64_t tolerance_us_ = 16666;  // half a depth frame period
+  mutable std::mutex pair_mutex_;       // the pairing state below, from either stream's thread
+  std::optional<openni::VideoFrameRef> pending_;  // a depth frame waiting for its colour
+  std::deque<openni::VideoFrameRef> colours_;     // the last colour frames, oldest first
+  std::uint64_t sequence_ = 0;
 };
 
 class DeviceSource : public StreamSource {
  public:
+  using StreamSource::StreamSource;
   // Opens `device` (a spec's target); when it is not there and wait_at_start_s > 0, waits for
   // it in the background (state "waiting for device: why") with the back-off of a reconnect,
   // and past the wait posts the error Next() returns.
@@ -287,12 +517,14 @@ class DeviceSource : public StreamSource {
   ~DeviceSource() override {
     Stop();
     if (watchdog_.joinable()) watchdog_.join();
-    CloseStream();  // here, while onNewFrame still resolves to this class
+    CloseStream();  // here, while OnFrame still resolves to this class
   }
 
-  void onNewFrame(openni::VideoStream&) override {
-    last_frame_ = Clock::now().time_since_epoch().count();
-    mailbox_.Put(ReadOne());
+  void OnFrame(bool depth) override {
+    if (depth) last_frame_ = Clock::now().time_since_epoch().count();
+    std::vector<Item> ready;
+    ReadAndPair(depth, &ready);
+    for (auto& item : ready) mailbox_.Put(std::move(item));
   }
   bool Live() const override { return true; }
   std::string Describe() const override {
@@ -300,10 +532,10 @@ class DeviceSource : public StreamSource {
   }
 
  private:
-  // Finds the device and starts its depth stream; false with why not (closed again).
+  // Finds the device and starts its streams; false with why not (closed again).
   bool Connect(std::string* why) {
     std::string uri;
-    if (ResolveDevice(device_spec_, &uri, why) && OpenStream(uri, why) && StartStream(why)) {
+    if (ResolveDevice(device_spec_, &uri, why) && OpenStream(uri, true, why) && StartStream(why)) {
       uri_ = uri;
       return true;
     }
@@ -363,10 +595,11 @@ class DeviceSource : public StreamSource {
 
 class PlaybackSource : public StreamSource {
  public:
+  using StreamSource::StreamSource;
   bool Open(const std::string& path, const OniPlaybackOptions& options, std::string* error) {
     path_ = path;
     options_ = options;
-    if (!OpenStream(path, error)) return false;
+    if (!OpenStream(path, false, error)) return false;
     openni::PlaybackControl* control = device_.getPlaybackControl();
     if (!control) return Fail(error, path + ": not a recording");
     using Mode = OniPlaybackOptions::Mode;
@@ -381,7 +614,8 @@ class PlaybackSource : public StreamSource {
     frames_ = control->getNumberOfFrames(depth_);
     if (frames_ <= 0) return Fail(error, path + ": the recording has no depth frame");
     if (options.mode == Mode::kStep) {
-      if (depth_.start() != openni::STATUS_OK)
+      if (depth_.start() != openni::STATUS_OK ||
+          (colour_.isValid() && colour_.start() != openni::STATUS_OK))
         return Fail(error, path + ": cannot start playback: " + LastOpenNIError());
       return true;
     }
@@ -390,37 +624,60 @@ class PlaybackSource : public StreamSource {
 
   ~PlaybackSource() override {
     Stop();
-    if (depth_.isValid()) {
-      depth_.removeNewFrameListener(this);
-      depth_.stop();
-      // libOniFile's player thread walks its stream list every 10 ms without a lock while no
-      // stream runs; give it that beat to leave the walk before the stream is destroyed.
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    bool running = false;
+    RemoveListeners();
+    for (openni::VideoStream* stream : {&colour_, &depth_}) {
+      if (!stream->isValid()) continue;
+      stream->stop();
+      running = true;
     }
+    // libOniFile's player thread walks its stream list every 10 ms without a lock while no
+    // stream runs; give it that beat to leave the walk before the streams are destroyed.
+    if (running) std::this_thread::sleep_for(std::chrono::milliseconds(20));
     CloseStream();
   }
 
   Status Next(Frame* frame, std::string* error) override {
     if (options_.mode != OniPlaybackOptions::Mode::kStep) return StreamSource::Next(frame, error);
-    if (stopped_ || (!options_.loop && read_ >= frames_)) {
-      SetState("ended");
-      return Status::kEnd;
-    }
-    // In manual playback the file driver reads the next frame when asked through
-    // waitForAnyStream (its manual trigger); a timeout keeps Stop() responsive.
-    for (;;) {
-      openni::VideoStream* streams[] = {&depth_};
-      int ready = -1;
-      const auto rc = openni::OpenNI::waitForAnyStream(streams, 1, &ready, 500);
-      if (rc == openni::STATUS_OK) break;
+    // In manual playback the file driver reads the next frame of the file (of either stream)
+    // when asked through waitForAnyStream (its manual trigger); a timeout keeps Stop()
+    // responsive. After the last depth frame of a non-looping recording, a few more reads look
+    // for its colour frame.
+    int after_end = 0;
+    while (ready_.empty()) {
       if (stopped_) return Status::kEnd;
-      if (rc != openni::STATUS_TIME_OUT) {
+      const bool at_end = !options_.loop && read_ >= frames_;
+      if (at_end && (!HasPending() || after_end >= kReadsAfterEnd)) {
+        FlushPending(&ready_);
+        if (ready_.empty()) {
+          SetState("ended");
+          return Status::kEnd;
+        }
+        break;
+      }
+      openni::VideoStream* streams[] = {&depth_, &colour_};
+      int ready = -1;
+      const auto rc =
+          openni::OpenNI::waitForAnyStream(streams, colour_.isValid() ? 2 : 1, &ready, 500);
+      if (rc == openni::STATUS_TIME_OUT) continue;
+      if (rc != openni::STATUS_OK) {
         Fail(error, path_ + ": playback failed: " + LastOpenNIError());
         return Status::kError;
       }
+      if (at_end) {
+        ++after_end;
+        if (ready == 0) {  // the repeating player's next pass: not this playback's
+          openni::VideoFrameRef skipped;
+          depth_.readFrame(&skipped);
+          continue;
+        }
+      } else if (ready == 0) {
+        ++read_;
+      }
+      ReadAndPair(ready == 0, &ready_);
     }
-    Item item = ReadOne();
-    ++read_;
+    Item item = std::move(ready_.front());
+    ready_.erase(ready_.begin());
     if (!item.ok) {
       Fail(error, path_ + ": " + item.error);
       return Status::kError;
@@ -429,46 +686,55 @@ class PlaybackSource : public StreamSource {
     return Status::kFrame;
   }
 
-  void onNewFrame(openni::VideoStream&) override {
+  void OnFrame(bool depth) override {
     if (stopped_ || ended_) return;
     const int previous = last_index_;
-    Item item = ReadOne();
+    std::vector<Item> ready;
+    ReadAndPair(depth, &ready);
     // The player repeats (see Open): a non-looping playback ends at the last frame, or at the
     // wrap when libOpenNI2 skipped the last frame in fast mode.
-    const bool wrapped = last_index_ < previous;
-    if (!(wrapped && !options_.loop)) mailbox_.Put(std::move(item));
-    if (!options_.loop && (wrapped || last_index_ >= frames_)) {
+    const bool wrapped = depth && last_index_ < previous;
+    for (auto& item : ready)
+      if (!(wrapped && !options_.loop)) mailbox_.Put(std::move(item));
+    if (depth && !options_.loop && (wrapped || last_index_ >= frames_)) {
       ended_ = true;
+      std::vector<Item> last;
+      FlushPending(&last);
+      for (auto& item : last) mailbox_.Put(std::move(item));
       SetState("ended");
       mailbox_.Close();
     }
   }
   bool Live() const override { return options_.mode != OniPlaybackOptions::Mode::kStep; }
   std::string Describe() const override {
-    return path_ + " (" + std::to_string(frames_) + " frames)";
+    return path_ + " (" + std::to_string(frames_) + " frames" +
+           (colour_.isValid() ? ", depth and colour)" : ")");
   }
 
  private:
+  static constexpr int kReadsAfterEnd = 2;
   std::string path_;
   OniPlaybackOptions options_;
   int frames_ = 0;
-  int read_ = 0;
+  int read_ = 0;                // depth frames read in step mode
+  std::vector<Item> ready_;     // step mode: frames paired and not yet returned
   std::atomic<bool> ended_{false};
 };
 
 }  // namespace
 
-std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device, double wait_at_start_s,
-                                                 std::string* error) {
+std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device,
+                                                 const ColourOptions& colour,
+                                                 double wait_at_start_s, std::string* error) {
   if (!InitializeOpenNI(error)) return nullptr;
-  auto source = std::make_unique<DeviceSource>();
+  auto source = std::make_unique<DeviceSource>(colour);
   if (!source->Open(device, wait_at_start_s, error)) return nullptr;
   return source;
 }
 
 std::unique_ptr<OpenNI2Source> OpenOniPlayback(const std::string& path,
                                                const OniPlaybackOptions& options,
-                                               std::string* error) {
+                                               const ColourOptions& colour, std::string* error) {
   if (!InitializeOpenNI(error)) return nullptr;
   if (FILE* f = std::fopen(path.c_str(), "rb")) {
     std::fclose(f);
@@ -476,7 +742,7 @@ std::unique_ptr<OpenNI2Source> OpenOniPlayback(const std::string& path,
     Fail(error, path + ": cannot open recording");
     return nullptr;
   }
-  auto source = std::make_unique<PlaybackSource>();
+  auto source = std::make_unique<PlaybackSource>(colour);
   if (!source->Open(path, options, error)) return nullptr;
   return source;
 }

@@ -11,10 +11,28 @@ namespace saccade {
 /// A FrameSource backed by an openni::VideoStream, which can also be recorded.
 class OpenNI2Source : public FrameSource {
  public:
-  /// Starts writing every frame the stream delivers to an .oni file (openni::Recorder) until
+  /// Starts writing every frame the streams (depth, and colour when open) deliver to an .oni file (openni::Recorder) until
   /// the source is destroyed or StopRecording(). False with `error` when it cannot.
   virtual bool StartRecording(const std::string& oni_path, std::string* error) = 0;
   virtual void StopRecording() = 0;
+};
+
+/// How colour joins depth. Depth and colour frames are paired by timestamp: a depth frame takes
+/// the colour frame nearest in time within half a depth frame period, and waits for it at most
+/// until the next depth frame; a depth frame left without one is delivered uncoloured and
+/// counted (SourceStats::unpaired).
+struct ColourOptions {
+  bool enabled = true;  // open the colour stream when the device has one
+  enum class Registration {
+    kAuto,     // live: the device's when it offers it, else Saccade's; playback: kNone
+    kDevice,   // the device's depth-to-colour registration; an error when it has none
+    kSaccade,  // Saccade's: the depth moved into the colour camera (core/registration.h)
+    kNone,     // colour taken pixel for pixel (the images are registered already)
+  } registration = Registration::kAuto;
+  /// A colour camera file (io/images.h) for Saccade's registration; "" takes the colour
+  /// camera's intrinsics from its field of view and puts it 25 mm right of the depth camera,
+  /// parallel (NominalKinectCalibration's layout).
+  std::string calibration;
 };
 
 /// `device`: "" for the first device, "#N" for the N-th (0-based), or a URI or serial number.
@@ -23,8 +41,9 @@ class OpenNI2Source : public FrameSource {
 /// device that is not there at start fails at once with `wait_at_start_s` 0; with more, the
 /// source opens and waits that long for it (Stats().state "waiting for device: why", the same
 /// back-off), after which Next() returns the error.
-std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device, double wait_at_start_s,
-                                                 std::string* error);
+std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device,
+                                                 const ColourOptions& colour,
+                                                 double wait_at_start_s, std::string* error);
 
 struct OniPlaybackOptions {
   enum class Mode {
@@ -36,6 +55,6 @@ struct OniPlaybackOptions {
 };
 std::unique_ptr<OpenNI2Source> OpenOniPlayback(const std::string& path,
                                                const OniPlaybackOptions& options,
-                                               std::string* error);
+                                               const ColourOptions& colour, std::string* error);
 
 }  // namespace saccade

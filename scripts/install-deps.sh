@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   cmake make g++ pkg-config ccache iproute2
   libpcl-dev libeigen3-dev libflann-dev
-  libopenni2-dev
+  libopenni2-dev libfreenect-dev libfreenect-bin
   liblcm-dev liblcm-bin libglib2.0-dev
   libtbb-dev libyaml-cpp-dev libopencv-contrib-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libtiff-dev

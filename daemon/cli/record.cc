@@ -92,7 +92,9 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
   }
   const SourceStats stats = source->Stats();
   out << "recorded " << taken << " frame(s) from " << source->Describe() << " to " << dir << " ("
-      << format << "), " << stats.dropped << " dropped\n";
+      << format << "), " << stats.dropped << " dropped";
+  if (stats.unpaired > 0) out << ", " << stats.unpaired << " without their colour frame";
+  out << "\n";
   return code;
 }
 

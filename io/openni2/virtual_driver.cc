@@ -9,13 +9,23 @@
 // The device appears when SACCADE_VIRTUAL_DEVICE names a folder of 16-bit depth images
 // (*depth*.png or .tiff, millimetres) with an intrinsics.yaml, as `saccade record --format
 // depth` writes. Frames play in name order, looping, at SACCADE_VIRTUAL_DEVICE_FPS (default
-// 30). Frame n (from 1) shows image (n - 1) mod count and has timestamp n * 1e6 / fps us.
+// 30). Frame n (from 1) shows image (n - 1) mod count and has timestamp n * 1e6 / fps us, on
+// every stream: the streams share the device's frame clock.
+//
+// Colour: when every depth image has its rgb partner (RgbPartner), the device also has a
+// colour sensor (RGB888). With a colour.yaml (io/images.h) the colour images are the view of a
+// second camera placed as that file says, and the device offers depth-to-colour registration
+// as a PS1080 does: the depth stream then serves the depth seen from the colour camera, with
+// its intrinsics. Without colour.yaml the colour images are already registered to the depth.
+// SACCADE_VIRTUAL_DEVICE_REGISTRATION=0 withholds registration (as a device that has none).
+//
 // SACCADE_VIRTUAL_DEVICE_STALL_AFTER=N makes each opened stream fall silent after N frames,
 // as an unplugged camera does, so that reconnection can be tested.
 #define XN_NEW(type, arg) new type(arg)
 #define XN_DELETE(p) delete (p)
 #include <Driver/OniDriverAPI.h>
 
+#include "core/registration.h"
 #include "io/images.h"
 
 #include <algorithm>
@@ -24,6 +34,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -34,11 +45,21 @@ namespace {
 constexpr char kUriPrefix[] = "saccade-virtual://";
 
 struct Recording {
-  std::vector<saccade::DepthImage> frames;
-  saccade::IntrinsicsFile intrinsics;
+  std::vector<saccade::DepthImage> frames;  // the depth camera's view
+  std::vector<saccade::RgbImage> colour;    // the colour camera's view, one a frame, or none
+  // The depth seen from the colour camera, one a frame, when registration can be offered.
+  std::vector<std::vector<std::uint16_t>> registered;
+  saccade::IntrinsicsFile intrinsics;         // the depth camera
+  saccade::IntrinsicsFile colour_intrinsics;  // the colour camera
   int fps = 30;
   int stall_after = 0;  // > 0: the stream goes silent after this many frames (an unplug)
 };
+
+saccade::CameraIntrinsics ToCamera(const saccade::IntrinsicsFile& f) {
+  saccade::CameraIntrinsics k;
+  k.fx = f.fx, k.fy = f.fy, k.cx = f.cx, k.cy = f.cy, k.width = f.width, k.height = f.height;
+  return k;
+}
 
 bool LoadRecording(const std::string& dir, Recording* out) {
   std::string error;
@@ -50,26 +71,59 @@ bool LoadRecording(const std::string& dir, Recording* out) {
     if (image.width != out->intrinsics.width || image.height != out->intrinsics.height)
       return false;
     out->frames.push_back(std::move(image));
+    const std::string rgb_path = saccade::RgbPartner(path);
+    if (rgb_path.empty()) continue;
+    saccade::RgbImage rgb;
+    if (!saccade::ReadRgbImage(rgb_path, &rgb, &error)) return false;
+    if (!out->colour.empty() && (rgb.width != out->colour[0].width ||
+                                 rgb.height != out->colour[0].height))
+      return false;  // one colour stream, one size
+    out->colour.push_back(std::move(rgb));
   }
+  if (!out->colour.empty() && out->colour.size() != out->frames.size()) return false;
   if (const char* fps = std::getenv("SACCADE_VIRTUAL_DEVICE_FPS")) out->fps = std::atoi(fps);
   if (const char* stall = std::getenv("SACCADE_VIRTUAL_DEVICE_STALL_AFTER"))
     out->stall_after = std::atoi(stall);
-  return !out->frames.empty() && out->fps > 0;
+  if (out->frames.empty() || out->fps <= 0) return false;
+  if (out->colour.empty()) return true;
+  saccade::ColourCameraFile camera;
+  camera.intrinsics = out->intrinsics;
+  const std::string camera_path = dir + "/" + saccade::kColourCameraFileName;
+  const bool second_camera = std::ifstream(camera_path).good();
+  if (second_camera && !saccade::ReadColourCameraFile(camera_path, &camera, &error)) return false;
+  out->colour_intrinsics = camera.intrinsics;
+  if (out->colour[0].width != camera.intrinsics.width ||
+      out->colour[0].height != camera.intrinsics.height) {
+    if (second_camera) return false;  // the file describes other images
+    out->colour_intrinsics.width = out->colour[0].width;  // colour of another size, unregistered
+    out->colour_intrinsics.height = out->colour[0].height;
+  }
+  const char* registration = std::getenv("SACCADE_VIRTUAL_DEVICE_REGISTRATION");
+  const bool same_size = out->colour_intrinsics.width == out->intrinsics.width &&
+                         out->colour_intrinsics.height == out->intrinsics.height;
+  if (!same_size || (registration && std::string(registration) == "0")) return true;
+  const Eigen::Isometry3d colour_from_depth = saccade::ColourFromDepth(camera.t, camera.r);
+  for (const auto& depth : out->frames)
+    out->registered.push_back(second_camera ? saccade::RegisterDepth(depth.data.data(),
+                                                                     ToCamera(out->intrinsics),
+                                                                     colour_from_depth,
+                                                                     ToCamera(camera.intrinsics))
+                                            : depth.data);
+  return true;
 }
 
-OniVideoMode ModeOf(const Recording& r) {
-  OniVideoMode mode;
-  mode.pixelFormat = ONI_PIXEL_FORMAT_DEPTH_1_MM;
-  mode.resolutionX = r.intrinsics.width;
-  mode.resolutionY = r.intrinsics.height;
-  mode.fps = r.fps;
-  return mode;
-}
+// What the streams share: the recording, the device's frame clock, and whether the depth is
+// registered to colour now.
+struct DeviceState {
+  Recording recording;
+  std::chrono::steady_clock::time_point epoch = std::chrono::steady_clock::now();
+  std::atomic<bool> registered{false};
+};
 
-class DepthStream : public oni::driver::StreamBase {
+class ImageStream : public oni::driver::StreamBase {
  public:
-  explicit DepthStream(const Recording* recording) : recording_(recording) {}
-  ~DepthStream() override { stop(); }
+  ImageStream(const DeviceState* device, OniSensorType type) : device_(device), type_(type) {}
+  ~ImageStream() override { stop(); }
 
   OniStatus start() override {
     if (running_) return ONI_STATUS_OK;
@@ -90,20 +144,20 @@ class DepthStream : public oni::driver::StreamBase {
   }
 
   OniStatus getProperty(int id, void* data, int* size) override {
-    const auto& k = recording_->intrinsics;
+    const auto k = Camera();
     switch (id) {
       case ONI_STREAM_PROPERTY_VIDEO_MODE:
-        return Put(ModeOf(*recording_), data, size);
+        return Put(Mode(), data, size);
       case ONI_STREAM_PROPERTY_HORIZONTAL_FOV:  // fx = (width / 2) / tan(hfov / 2)
         return Put(static_cast<float>(2 * std::atan(k.width / (2 * k.fx))), data, size);
       case ONI_STREAM_PROPERTY_VERTICAL_FOV:
         return Put(static_cast<float>(2 * std::atan(k.height / (2 * k.fy))), data, size);
       case ONI_STREAM_PROPERTY_MAX_VALUE:
-        return Put(10000, data, size);
+        return Put(type_ == ONI_SENSOR_DEPTH ? 10000 : 255, data, size);
       case ONI_STREAM_PROPERTY_MIN_VALUE:
         return Put(0, data, size);
       case ONI_STREAM_PROPERTY_STRIDE:
-        return Put(static_cast<int>(k.width * sizeof(OniDepthPixel)), data, size);
+        return Put(k.width * PixelBytes(), data, size);
       case ONI_STREAM_PROPERTY_MIRRORING:
         return Put(OniBool(FALSE), data, size);
       case ONI_STREAM_PROPERTY_CROPPING:  // the .oni player drops frames without it
@@ -129,7 +183,7 @@ class DepthStream : public oni::driver::StreamBase {
   OniStatus setProperty(int id, const void* data, int size) override {
     if (id == ONI_STREAM_PROPERTY_VIDEO_MODE && size == sizeof(OniVideoMode)) {
       const OniVideoMode& want = *static_cast<const OniVideoMode*>(data);
-      const OniVideoMode have = ModeOf(*recording_);
+      const OniVideoMode have = Mode();
       return want.resolutionX == have.resolutionX && want.resolutionY == have.resolutionY &&
                      want.pixelFormat == have.pixelFormat
                  ? ONI_STATUS_OK
@@ -139,7 +193,27 @@ class DepthStream : public oni::driver::StreamBase {
     return ONI_STATUS_NOT_SUPPORTED;
   }
 
+  static OniVideoMode ModeOf(const Recording& r, OniSensorType type) {
+    OniVideoMode mode;
+    const bool depth = type == ONI_SENSOR_DEPTH;
+    mode.pixelFormat = depth ? ONI_PIXEL_FORMAT_DEPTH_1_MM : ONI_PIXEL_FORMAT_RGB888;
+    mode.resolutionX = depth ? r.intrinsics.width : r.colour_intrinsics.width;
+    mode.resolutionY = depth ? r.intrinsics.height : r.colour_intrinsics.height;
+    mode.fps = r.fps;
+    return mode;
+  }
+
  private:
+  OniVideoMode Mode() const { return ModeOf(device_->recording, type_); }
+  int PixelBytes() const {
+    return type_ == ONI_SENSOR_DEPTH ? sizeof(OniDepthPixel) : sizeof(OniRGB888Pixel);
+  }
+  // The camera this stream's images are from: registered depth is the colour camera's view.
+  const saccade::IntrinsicsFile& Camera() const {
+    const Recording& r = device_->recording;
+    return type_ == ONI_SENSOR_COLOR || device_->registered ? r.colour_intrinsics : r.intrinsics;
+  }
+
   // Writes a property value; `*size` is the room at `data` in, the value's size out.
   template <typename T>
   static OniStatus Put(const T& value, void* data, int* size) {
@@ -149,57 +223,82 @@ class DepthStream : public oni::driver::StreamBase {
     return ONI_STATUS_OK;
   }
 
+  // Frame n of the device's clock is due at epoch + n periods, on every stream.
   void Run() {
-    using Clock = std::chrono::steady_clock;
-    const auto period = std::chrono::microseconds(1000000 / recording_->fps);
-    auto due = Clock::now();
-    for (int index = 1; running_; ++index) {
-      due += period;
-      std::this_thread::sleep_until(due);  // the camera's own frame clock
-      if (recording_->stall_after > 0 && index > recording_->stall_after) continue;
-      const auto& image = recording_->frames[(index - 1) % recording_->frames.size()];
+    const Recording& r = device_->recording;
+    const auto period = std::chrono::microseconds(1000000 / r.fps);
+    int index = static_cast<int>((std::chrono::steady_clock::now() - device_->epoch) / period) + 1;
+    for (int sent = 0; running_; ++index) {
+      std::this_thread::sleep_until(device_->epoch + index * period);  // the camera's clock
+      if (r.stall_after > 0 && ++sent > r.stall_after) continue;
+      const std::size_t image = static_cast<std::size_t>(index - 1) % r.frames.size();
+      const void* pixels = nullptr;
+      if (type_ == ONI_SENSOR_COLOR) {
+        pixels = r.colour[image].data.data();
+      } else {
+        pixels = device_->registered ? r.registered[image].data() : r.frames[image].data.data();
+      }
       OniFrame* frame = getServices().acquireFrame();
       if (!frame) continue;
-      const int bytes = static_cast<int>(image.data.size() * sizeof(OniDepthPixel));
-      std::memcpy(frame->data, image.data.data(), bytes);
+      const auto& k = Camera();
+      const int bytes = k.width * k.height * PixelBytes();
+      std::memcpy(frame->data, pixels, bytes);
       frame->dataSize = bytes;
-      frame->sensorType = ONI_SENSOR_DEPTH;
+      frame->sensorType = type_;
       frame->frameIndex = index;
-      frame->timestamp = static_cast<uint64_t>(index) * 1000000u / recording_->fps;
-      frame->videoMode = ModeOf(*recording_);
-      frame->width = image.width;
-      frame->height = image.height;
+      frame->timestamp = static_cast<uint64_t>(index) * 1000000u / r.fps;
+      frame->videoMode = Mode();
+      frame->width = k.width;
+      frame->height = k.height;
       frame->croppingEnabled = FALSE;
       frame->cropOriginX = frame->cropOriginY = 0;
-      frame->stride = image.width * static_cast<int>(sizeof(OniDepthPixel));
+      frame->stride = k.width * PixelBytes();
       raiseNewFrame(frame);
       getServices().releaseFrame(frame);
     }
   }
 
-  const Recording* recording_;
+  const DeviceState* device_;
+  const OniSensorType type_;
   std::atomic<bool> running_{false};
   std::thread thread_;
 };
 
 class VirtualDevice : public oni::driver::DeviceBase {
  public:
-  explicit VirtualDevice(Recording recording) : recording_(std::move(recording)) {
-    mode_ = ModeOf(recording_);
-    sensor_.sensorType = ONI_SENSOR_DEPTH;
-    sensor_.numSupportedVideoModes = 1;
-    sensor_.pSupportedVideoModes = &mode_;
+  explicit VirtualDevice(Recording recording) {
+    state_.recording = std::move(recording);
+    const Recording& r = state_.recording;
+    modes_[0] = ImageStream::ModeOf(r, ONI_SENSOR_DEPTH);
+    modes_[1] = ImageStream::ModeOf(r, ONI_SENSOR_COLOR);
+    sensors_[0].sensorType = ONI_SENSOR_DEPTH;
+    sensors_[1].sensorType = ONI_SENSOR_COLOR;
+    for (int i = 0; i < 2; ++i) {
+      sensors_[i].numSupportedVideoModes = 1;
+      sensors_[i].pSupportedVideoModes = &modes_[i];
+    }
   }
   OniStatus getSensorInfoList(OniSensorInfo** sensors, int* count) override {
-    *sensors = &sensor_;
-    *count = 1;
+    *sensors = sensors_;
+    *count = state_.recording.colour.empty() ? 1 : 2;
     return ONI_STATUS_OK;
   }
   oni::driver::StreamBase* createStream(OniSensorType type) override {
-    return type == ONI_SENSOR_DEPTH ? new DepthStream(&recording_) : nullptr;
+    if (type == ONI_SENSOR_COLOR && state_.recording.colour.empty()) return nullptr;
+    if (type != ONI_SENSOR_DEPTH && type != ONI_SENSOR_COLOR) return nullptr;
+    return new ImageStream(&state_, type);
   }
   void destroyStream(oni::driver::StreamBase* stream) override { delete stream; }
   OniStatus getProperty(int id, void* data, int* size) override {
+    if (id == ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION) {
+      if (*size < static_cast<int>(sizeof(OniImageRegistrationMode)))
+        return ONI_STATUS_BAD_PARAMETER;
+      const OniImageRegistrationMode mode = state_.registered ? ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR
+                                                              : ONI_IMAGE_REGISTRATION_OFF;
+      std::memcpy(data, &mode, sizeof(mode));
+      *size = sizeof(mode);
+      return ONI_STATUS_OK;
+    }
     if (id != ONI_DEVICE_PROPERTY_SERIAL_NUMBER) return ONI_STATUS_NOT_SUPPORTED;
     const char serial[] = "SACCADE-VIRTUAL-0";
     if (*size < static_cast<int>(sizeof(serial))) return ONI_STATUS_BAD_PARAMETER;
@@ -207,12 +306,27 @@ class VirtualDevice : public oni::driver::DeviceBase {
     *size = sizeof(serial);
     return ONI_STATUS_OK;
   }
-  OniBool isPropertySupported(int id) override { return id == ONI_DEVICE_PROPERTY_SERIAL_NUMBER; }
+  OniStatus setProperty(int id, const void* data, int size) override {
+    if (id != ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION || size != sizeof(OniImageRegistrationMode))
+      return ONI_STATUS_NOT_SUPPORTED;
+    const auto mode = *static_cast<const OniImageRegistrationMode*>(data);
+    if (!isImageRegistrationModeSupported(mode)) return ONI_STATUS_NOT_SUPPORTED;
+    state_.registered = mode == ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR;
+    return ONI_STATUS_OK;
+  }
+  OniBool isPropertySupported(int id) override {
+    return id == ONI_DEVICE_PROPERTY_SERIAL_NUMBER ||
+           (id == ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION && !state_.recording.registered.empty());
+  }
+  OniBool isImageRegistrationModeSupported(OniImageRegistrationMode mode) override {
+    return mode == ONI_IMAGE_REGISTRATION_OFF ||
+           (mode == ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR && !state_.recording.registered.empty());
+  }
 
  private:
-  Recording recording_;
-  OniVideoMode mode_;
-  OniSensorInfo sensor_;
+  DeviceState state_;
+  OniVideoMode modes_[2];
+  OniSensorInfo sensors_[2];
 };
 
 class VirtualDriver : public oni::driver::DriverBase {
@@ -225,12 +339,7 @@ class VirtualDriver : public oni::driver::DriverBase {
     DriverBase::initialize(connected, disconnected, changed, cookie);
     const char* dir = std::getenv("SACCADE_VIRTUAL_DEVICE");
     if (!dir || !*dir) return ONI_STATUS_OK;  // no folder, no device
-    dir_ = dir;
-    OniDeviceInfo info{};
-    std::snprintf(info.uri, sizeof(info.uri), "%s%s", kUriPrefix, dir);
-    std::snprintf(info.vendor, sizeof(info.vendor), "Saccade");
-    std::snprintf(info.name, sizeof(info.name), "Virtual depth camera");
-    deviceConnected(&info);
+    Announce(dir);
     return ONI_STATUS_OK;
   }
 
@@ -242,13 +351,22 @@ class VirtualDriver : public oni::driver::DriverBase {
   }
   void deviceClose(oni::driver::DeviceBase* device) override { delete device; }
   void shutdown() override {}
+  // A folder named by URI (saccade-virtual://DIR) that SACCADE_VIRTUAL_DEVICE did not name
+  // becomes a device too, as an .oni path does for the file driver.
   OniStatus tryDevice(const char* uri) override {
-    return std::strncmp(uri, kUriPrefix, std::strlen(kUriPrefix)) == 0 ? ONI_STATUS_OK
-                                                                       : ONI_STATUS_ERROR;
+    if (std::strncmp(uri, kUriPrefix, std::strlen(kUriPrefix)) != 0) return ONI_STATUS_ERROR;
+    Announce(uri + std::strlen(kUriPrefix));
+    return ONI_STATUS_OK;
   }
 
  private:
-  std::string dir_;
+  void Announce(const char* dir) {
+    OniDeviceInfo info{};
+    std::snprintf(info.uri, sizeof(info.uri), "%s%s", kUriPrefix, dir);
+    std::snprintf(info.vendor, sizeof(info.vendor), "Saccade");
+    std::snprintf(info.name, sizeof(info.name), "Virtual depth and colour camera");
+    deviceConnected(&info);
+  }
 };
 
 }  // namespace

@@ -108,7 +108,7 @@ TEST_F(OpenNI2Test, RecordedOniPlaysBackFrameByFrame) {
   std::string error;
   int recorded = 0;
   {
-    auto device = OpenOpenNI2Device("", 0, &error);
+    auto device = OpenOpenNI2Device("", ColourOptions{}, 0, &error);
     ASSERT_TRUE(device) << error;
     ASSERT_TRUE(device->StartRecording(oni, &error)) << error;
     Frame f;
