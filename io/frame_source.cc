@@ -5,6 +5,7 @@
 #include "core/features.h"
 #include "io/cloud_io.h"
 #include "io/config.h"
+#include "io/freenect_source.h"
 #include "io/images.h"
 #include "io/mailbox.h"
 #include "io/openni2_source.h"
@@ -499,6 +500,9 @@ std::optional<SourceSpec> ParseSourceSpec(const std::string& text, std::string* 
   if (body.rfind("openni2://", 0) == 0) {
     spec.kind = "openni2";
     spec.target = body.substr(10);
+  } else if (body.rfind("freenect://", 0) == 0) {
+    spec.kind = "freenect";
+    spec.target = body.substr(11);
   } else if (EndsWith(body, ".oni")) {
     spec.kind = "oni";
     spec.target = body;
@@ -506,8 +510,8 @@ std::optional<SourceSpec> ParseSourceSpec(const std::string& text, std::string* 
     const auto colon = body.find(':');
     if (colon == std::string::npos || colon == 0 || colon + 1 == body.size()) {
       Fail(error, "source '" + text +
-                      "': expected openni2://[DEVICE], PATH.oni, pcd:DIR, depth:DIR or "
-                      "synthetic:NAME");
+                      "': expected openni2://[DEVICE], freenect://[DEVICE], PATH.oni, pcd:DIR, "
+                      "depth:DIR, synthetic:NAME or capture:FILE.yaml");
       return std::nullopt;
     }
     spec.kind = body.substr(0, colon);
@@ -515,7 +519,7 @@ std::optional<SourceSpec> ParseSourceSpec(const std::string& text, std::string* 
     if (spec.kind != "pcd" && spec.kind != "depth" && spec.kind != "synthetic" &&
         spec.kind != "capture") {
       Fail(error, "source '" + text + "': unknown kind '" + spec.kind +
-                      "' (openni2://, .oni, pcd:, depth:, synthetic:, capture:)");
+                      "' (openni2://, freenect://, .oni, pcd:, depth:, synthetic:, capture:)");
       return std::nullopt;
     }
   }
@@ -541,6 +545,15 @@ std::unique_ptr<FrameSource> OpenSource(const std::string& text, std::string* er
   if (spec->kind == "pcd" || spec->kind == "depth") return OpenFiles(*spec, error);
   if (spec->kind == "synthetic") return OpenSynthetic(*spec, error);
   if (spec->kind == "capture") return OpenCapture(*spec, error);
+  if (spec->kind == "freenect") {
+    FreenectOptions o;
+    if (!OnlyOptions(*spec, {"calibration", "raw"}, error) ||
+        !OptionBool(*spec, "raw", &o.raw, error))
+      return nullptr;
+    const auto calibration = spec->options.find("calibration");
+    if (calibration != spec->options.end()) o.calibration = calibration->second;
+    return OpenFreenectDevice(spec->target, o, wait_at_start_s, error);
+  }
   ColourOptions colour;
   if (spec->kind == "oni" || spec->kind == "openni2") {
     if (!OptionBool(*spec, "colour", &colour.enabled, error)) return nullptr;

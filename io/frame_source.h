@@ -42,6 +42,9 @@ class FrameSource {
 /// How a spec is read. Options come after '?' as key=value pairs joined by '&':
 ///   openni2://             the first OpenNI2 device (openni2://#N: the N-th, 0-based;
 ///                          openni2://URI or openni2://SERIAL: that device)
+///   freenect://            a Kinect v1 through libfreenect (freenect://N: the N-th, 0-based;
+///                          freenect://SERIAL: that one); calibration=FILE, raw=0|1 (see
+///                          io/freenect_source.h); under fakenect, its dump replayed
 ///   PATH.oni               OpenNI2 playback; mode=realtime|fast|step (default fast), loop=0|1
 ///   pcd:DIR                PCD files in name order; rate=HZ (0: as fast as read), loop=0|1
 ///   depth:DIR              16-bit PNG/TIFF depth in millimetres (names containing "depth"),
@@ -61,7 +64,7 @@ std::unique_ptr<FrameSource> OpenSource(const std::string& spec, std::string* er
 
 /// A spec split into its kind, its target and its options.
 struct SourceSpec {
-  std::string kind;    // "openni2", "oni", "pcd", "depth", "synthetic", "capture"
+  std::string kind;    // "openni2", "freenect", "oni", "pcd", "depth", "synthetic", "capture"
   std::string target;  // device, path or scenario name
   std::map<std::string, std::string> options;
 };

@@ -35,7 +35,16 @@ class LatestMailbox {
     ready_.wait(lock, [this] { return slot_.has_value() || closed_; });
     std::optional<T> out = std::move(slot_);
     slot_.reset();
+    lock.unlock();
+    taken_.notify_all();
     return out;
+  }
+
+  /// Blocks until the stored value has been taken or the mailbox is closed: for a producer
+  /// that must not lose values (a replay), before its next Put.
+  void WaitUntilTaken() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    taken_.wait(lock, [this] { return !slot_.has_value() || closed_; });
   }
 
   /// No more values: wakes every waiting Take(). A value already stored can still be taken.
@@ -45,6 +54,7 @@ class LatestMailbox {
       closed_ = true;
     }
     ready_.notify_all();
+    taken_.notify_all();
   }
 
   /// Drops (and counts) the stored value too: an immediate stop.
@@ -56,6 +66,7 @@ class LatestMailbox {
       slot_.reset();
     }
     ready_.notify_all();
+    taken_.notify_all();
   }
 
   std::uint64_t dropped() const {
@@ -65,7 +76,7 @@ class LatestMailbox {
 
  private:
   mutable std::mutex mutex_;
-  std::condition_variable ready_;
+  std::condition_variable ready_, taken_;
   std::optional<T> slot_;
   bool closed_ = false;
   std::uint64_t dropped_ = 0;

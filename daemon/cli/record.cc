@@ -1,8 +1,9 @@
 // saccade record: capture from any source into a folder (PCD or depth images, with ground
-// truth) or an .oni recording.
+// truth), an .oni recording, or a fakenect dump (a Kinect v1's raw frames).
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/signals.h"
+#include "io/fakenect_dump.h"
 #include "io/frame_source.h"
 #include "io/frame_writer.h"
 #include "io/openni2_source.h"
@@ -28,8 +29,8 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
     if (!frames) return Usage(err, "record", "--frames must be a whole number >= 1");
   }
   const std::string format = args.Get("format", "pcd");
-  if (format != "pcd" && format != "depth" && format != "oni")
-    return Usage(err, "record", "--format must be pcd, depth or oni");
+  if (format != "pcd" && format != "depth" && format != "oni" && format != "fakenect")
+    return Usage(err, "record", "--format must be pcd, depth, oni or fakenect");
   const std::string dir = args.Get("out");
 
   // Ctrl-C or SIGTERM ends a recording cleanly: what was captured is kept.
@@ -50,7 +51,14 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
     running = source.get();
   }
   std::unique_ptr<FrameWriter> writer;
-  if (format == "oni") {
+  std::unique_ptr<FakenectWriter> dump;
+  if (format == "fakenect") {
+    dump = FakenectWriter::Open(dir, NominalKinectCalibration(), &error);
+    if (!dump) {
+      err << "saccade record: " << error << "\n";
+      return kExitFailure;
+    }
+  } else if (format == "oni") {
     auto* openni = dynamic_cast<OpenNI2Source*>(source.get());
     if (!openni) {
       err << "saccade record: --format oni needs an OpenNI2 source (openni2:// or .oni); "
@@ -78,7 +86,8 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
   while (!frames || taken < *frames) {
     const auto status = source->Next(&frame, &error);
     if (status == FrameSource::Status::kEnd) break;
-    if (status == FrameSource::Status::kError || (writer && !writer->Write(frame, &error))) {
+    if (status == FrameSource::Status::kError || (writer && !writer->Write(frame, &error)) ||
+        (dump && !dump->Write(frame, &error))) {
       err << "saccade record: " << error << "\n";
       code = kExitFailure;
       break;

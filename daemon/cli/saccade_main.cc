@@ -19,9 +19,11 @@ commands:
             the tracker on a sequence with truth at the sensor's rate (frames it has no time
             for are dropped): share of visible frames within tolerance, frames to re-acquire,
             frames on a wrong place, costs; the last line is one JSON object
-  record    --source SPEC --out DIR [--frames N] [--format pcd|depth|oni]
+  record    --source SPEC --out DIR [--frames N] [--format pcd|depth|oni|fakenect]
             capture frames (with ground truth when the source has it); SPEC is one of
-            openni2://[#N|URI|SERIAL], PATH.oni[?mode=realtime|fast|step&loop=1],
+            openni2://[#N|URI|SERIAL][?registration=auto|device|saccade|none&calibration=F],
+            freenect://[N|SERIAL][?calibration=F&raw=1],
+            PATH.oni[?mode=realtime|fast|step&loop=1],
             pcd:DIR[?rate=HZ&loop=1], depth:DIR[?intrinsics=FILE&rate=HZ&loop=1],
             synthetic:NAME[?frames=N&seed=S&rate=HZ&loop=1] (NAME: a preset or a YAML file)
   log-fixations --out FILE.csv|FILE.jsonl [--channel SACCADE_FIXATION] [--lcm-url URL]

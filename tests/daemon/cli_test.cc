@@ -1,4 +1,5 @@
 // End-to-end tests of the `saccade` binary: bad input gives one line and the right exit code.
+#include "io/cloud_io.h"
 #include "support/test_data.h"
 
 #include <gtest/gtest.h>
@@ -145,6 +146,65 @@ TEST(Cli, MissingOpenNI2DeviceIsOneLineAndExitOne) {
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(Lines(r.out), 1) << r.out;
   EXPECT_NE(r.out.find("openni2://: no OpenNI2 device found"), std::string::npos) << r.out;
+}
+
+// The share of a recorded PCD's valid points that have a colour (not black).
+double ColouredShare(const std::string& pcd) {
+  std::string error;
+  const auto cloud = saccade::LoadCloud(pcd, &error);
+  EXPECT_TRUE(cloud) << error;
+  if (!cloud) return 0;
+  int valid = 0, coloured = 0;
+  for (const auto& p : *cloud) {
+    if (!std::isfinite(p.z)) continue;
+    ++valid;
+    coloured += p.r || p.g || p.b;
+  }
+  return valid ? static_cast<double>(coloured) / valid : 0.0;
+}
+
+// A Kinect v1 through the libfreenect API: a dump `record --format fakenect` wrote from the
+// synthetic Kinect, replayed by Debian's fakenect, recorded as coloured clouds.
+TEST(Cli, RecordFromAKinectReplayedByFakenectGivesColouredClouds) {
+  const std::string dump = ::testing::TempDir() + "cli_fakenect_dump",
+                    out = ::testing::TempDir() + "cli_fakenect_pcd";
+  std::system(("rm -rf " + dump + " " + out).c_str());
+  CliRun r = Saccade("record --source 'synthetic:circular?rate=0&frames=4' --out " + dump +
+                     " --format fakenect");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* name : {"INDEX.txt", "d-1000.000000-0.pgm", "r-1000.000000-0.ppm"})
+    EXPECT_TRUE(std::ifstream(dump + "/" + name).good()) << name;
+  r = Saccade("record --source freenect:// --out " + out,
+              "env LD_LIBRARY_PATH=" SACCADE_FAKENECT_DIR " FAKENECT_PATH=" + dump + " ");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("recorded 4 frame(s) from freenect:// (fakenect replay"), std::string::npos)
+      << r.out;
+  for (int i = 0; i < 4; ++i)
+    EXPECT_GT(ColouredShare(out + "/frame_00000" + std::to_string(i) + ".pcd"), 0.99);
+}
+
+// The virtual OpenNI2 device serving the synthetic Kinect's depth and colour images.
+TEST(Cli, RecordFromOpenNI2GivesColouredClouds) {
+  const std::string images = ::testing::TempDir() + "cli_openni2_images",
+                    out = ::testing::TempDir() + "cli_openni2_pcd";
+  std::system(("rm -rf " + images + " " + out).c_str());
+  CliRun r = Saccade("record --source 'synthetic:circular?rate=0&frames=3' --out " + images +
+                     " --format depth");
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = Saccade("record --source openni2:// --frames 3 --out " + out,
+              std::string("env LD_LIBRARY_PATH=") + SACCADE_OPENNI2_RUNTIME +
+                  " SACCADE_VIRTUAL_DEVICE=" + images + " ");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (int i = 0; i < 3; ++i)
+    EXPECT_GT(ColouredShare(out + "/frame_00000" + std::to_string(i) + ".pcd"), 0.99);
+}
+
+TEST(Cli, MissingKinectIsOneLineAndExitOne) {
+  // The real libfreenect, and no Kinect on this machine (or no USB access: one line too).
+  const CliRun r = Saccade("record --source freenect:// --out /tmp/x", "env -u FAKENECT_PATH ");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  EXPECT_EQ(r.out.rfind("saccade record: freenect://: ", 0), 0u) << r.out;
 }
 
 // saccade eval on a two-scene subset of the paper-protocol set: every output is written and

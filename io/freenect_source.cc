@@ -1,0 +1,376 @@
+#include "io/freenect_source.h"
+
+#include "core/fail.h"
+#include "core/registration.h"
+#include "io/fakenect_dump.h"
+#include "io/images.h"
+#include "io/mailbox.h"
+
+#include <libfreenect.h>
+
+#include <sys/time.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdlib>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+namespace saccade {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Half a frame period at 30 Hz, in ticks of the Kinect's 60 MHz clock.
+constexpr std::int64_t kPairingTolerance = static_cast<std::int64_t>(kKinectClockHz / 60);
+
+class FreenectSource : public FrameSource {
+ public:
+  ~FreenectSource() override {
+    Stop();
+    if (worker_.joinable()) worker_.join();
+    Disconnect();
+    if (context_) freenect_shutdown(context_);
+  }
+
+  bool Open(const std::string& device, const FreenectOptions& options, double wait_at_start_s,
+            std::string* error) {
+    device_spec_ = device;
+    raw_only_ = options.raw;
+    calibration_ = NominalKinectCalibration();
+    if (!options.calibration.empty()) {
+      ColourCameraFile file;
+      if (!ReadColourCameraFile(options.calibration, &file, error)) return false;
+      const IntrinsicsFile& k = file.intrinsics;
+      if (k.width != kKinectWidth || k.height != kKinectHeight)
+        return Fail(error, options.calibration + ": describes a " + std::to_string(k.width) + "x" +
+                               std::to_string(k.height) + " colour camera; a Kinect's is 640x480");
+      CameraIntrinsics& c = calibration_.colour;
+      c.fx = k.fx, c.fy = k.fy, c.cx = k.cx, c.cy = k.cy;
+      calibration_.colour_from_depth = ColourFromDepth(file.t, file.r);
+    }
+    // fakenect exits the process on a file it cannot open: check its dump whole first.
+    const char* replay = std::getenv("FAKENECT_PATH");
+    if (replay && *replay) {
+      replay_dir_ = replay;
+      if (!CheckFakenectDump(replay_dir_, &replay_frames_, error)) return false;
+    }
+    if (freenect_init(&context_, nullptr) < 0) {
+      context_ = nullptr;
+      return Fail(error, Spec() + ": libfreenect cannot start (is libusb able to open the USB "
+                                  "devices? run as a member of the plugdev group)");
+    }
+    freenect_set_log_level(context_, FREENECT_LOG_FATAL);  // its errors come back as ours
+    freenect_select_subdevices(context_, FREENECT_DEVICE_CAMERA);
+    std::string why;
+    const bool opened = Connect(&why);
+    if (!opened && !(wait_at_start_s > 0)) return Fail(error, why);
+    if (!opened) {
+      SetState("waiting for device: " + why);
+      waiting_until_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(wait_at_start_s));
+    }
+    worker_ = std::thread([this, opened] { Run(!opened); });
+    return true;
+  }
+
+  Status Next(Frame* frame, std::string* error) override {
+    auto item = mailbox_.Take();
+    if (!item) return Status::kEnd;
+    if (!item->ok) {
+      Fail(error, item->error);
+      return Status::kError;
+    }
+    *frame = std::move(item->frame);
+    return Status::kFrame;
+  }
+
+  void Stop() override {
+    stopped_ = true;
+    mailbox_.CloseAndClear();
+    wake_.notify_all();
+  }
+
+  SourceStats Stats() const override {
+    SourceStats s;
+    s.produced = produced_;
+    s.dropped = mailbox_.dropped();
+    s.reconnects = reconnects_;
+    s.unpaired = unpaired_;
+    std::lock_guard<std::mutex> lock(mutex_);
+    s.state = state_;
+    return s;
+  }
+
+  // A replay is played whole, none of it lost; a Kinect runs at its own pace.
+  bool Live() const override { return replay_dir_.empty(); }
+
+  std::string Describe() const override {
+    if (!replay_dir_.empty())
+      return Spec() + " (fakenect replay of " + replay_dir_ + ", " +
+             std::to_string(replay_frames_) + " depth frames, raw disparity)";
+    return Spec() + " (Kinect v1, " +
+           (registered_ ? "depth registered by the device" : "raw disparity registered by Saccade") +
+           ")";
+  }
+
+ private:
+  struct Item {
+    bool ok = true;
+    Frame frame;
+    std::string error;
+  };
+
+  std::string Spec() const { return "freenect://" + device_spec_; }
+
+  void SetState(const std::string& state) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    state_ = state;
+  }
+
+  // The mode of `format` at 640x480 among those the library offers (fakenect offers only the
+  // raw ones, and aborts when asked for another, so the modes are listed rather than found).
+  static std::optional<freenect_frame_mode> DepthMode(freenect_depth_format format) {
+    for (int i = 0; i < freenect_get_depth_mode_count(); ++i) {
+      const freenect_frame_mode m = freenect_get_depth_mode(i);
+      if (m.is_valid && m.resolution == FREENECT_RESOLUTION_MEDIUM && m.depth_format == format)
+        return m;
+    }
+    return std::nullopt;
+  }
+  static std::optional<freenect_frame_mode> RgbMode() {
+    for (int i = 0; i < freenect_get_video_mode_count(); ++i) {
+      const freenect_frame_mode m = freenect_get_video_mode(i);
+      if (m.is_valid && m.resolution == FREENECT_RESOLUTION_MEDIUM &&
+          m.video_format == FREENECT_VIDEO_RGB)
+        return m;
+    }
+    return std::nullopt;
+  }
+
+  // Opens the device and starts both streams; false with why not (closed again).
+  bool Connect(std::string* why) {
+    const int found = freenect_num_devices(context_);
+    if (found <= 0)
+      return Fail(why, Spec() + ": no Kinect found (libfreenect lists none; is it plugged in, "
+                                "powered, and readable by this user?)");
+    const bool by_index = std::all_of(device_spec_.begin(), device_spec_.end(),
+                                      [](char c) { return c >= '0' && c <= '9'; });
+    int rc = 0;
+    if (by_index) {
+      const int index = device_spec_.empty() ? 0 : std::atoi(device_spec_.c_str());
+      if (device_spec_.size() > 3 || index >= found)
+        return Fail(why, Spec() + ": no such device; " + std::to_string(found) +
+                             " found (freenect://0 is the first)");
+      rc = freenect_open_device(context_, &device_, index);
+    } else {
+      rc = freenect_open_device_by_camera_serial(context_, &device_, device_spec_.c_str());
+    }
+    if (rc < 0) {
+      device_ = nullptr;
+      return Fail(why, Spec() + ": cannot open the Kinect (libfreenect error " +
+                           std::to_string(rc) + "; is another program using it?)");
+    }
+    std::optional<freenect_frame_mode> depth =
+        raw_only_ ? std::nullopt : DepthMode(FREENECT_DEPTH_REGISTERED);
+    registered_ = depth.has_value();
+    if (!depth) depth = DepthMode(FREENECT_DEPTH_11BIT);
+    const std::optional<freenect_frame_mode> video = RgbMode();
+    if (!depth || !video) {
+      Disconnect();
+      return Fail(why, Spec() + ": libfreenect offers no 640x480 " +
+                           (depth ? "RGB" : "depth") + " mode");
+    }
+    freenect_set_user(device_, this);
+    freenect_set_depth_callback(device_, &FreenectSource::OnDepth);
+    freenect_set_video_callback(device_, &FreenectSource::OnVideo);
+    if (freenect_set_depth_mode(device_, *depth) < 0 ||
+        freenect_set_video_mode(device_, *video) < 0 || freenect_start_depth(device_) < 0 ||
+        freenect_start_video(device_) < 0) {
+      Disconnect();
+      return Fail(why, Spec() + ": cannot start the Kinect's depth and colour streams");
+    }
+    pending_.reset();
+    colour_.reset();
+    last_frame_ = Clock::now();
+    return true;
+  }
+
+  void Disconnect() {
+    if (!device_) return;
+    freenect_stop_depth(device_);
+    freenect_stop_video(device_);
+    freenect_close_device(device_);
+    device_ = nullptr;
+  }
+
+  // The worker: libfreenect's event loop (callbacks come from it, on this thread), and
+  // reconnection with back-off when the device is missing, silent or failing.
+  void Run(bool waiting) {
+    auto backoff = std::chrono::milliseconds(500);
+    while (!stopped_) {
+      if (!device_) {
+        std::string why;
+        if (Connect(&why)) {
+          if (!waiting) ++reconnects_;
+          waiting = false;
+          backoff = std::chrono::milliseconds(500);
+          SetState("streaming");
+          continue;
+        }
+        if (waiting && Clock::now() >= waiting_until_) {  // the wait at start is over
+          Item item;
+          item.ok = false;
+          item.error = why + " (waited for it)";
+          mailbox_.Put(std::move(item));
+          mailbox_.Close();
+          return;
+        }
+        SetState((waiting ? "waiting for device: " : "reconnecting: ") + why);
+        std::unique_lock<std::mutex> lock(wake_mutex_);
+        wake_.wait_for(lock, backoff, [this] { return stopped_.load(); });
+        backoff = std::min(backoff * 2, std::chrono::milliseconds(8000));
+        continue;
+      }
+      timeval timeout{0, 100000};
+      const int rc = freenect_process_events_timeout(context_, &timeout);
+      if (rc < 0 && !replay_dir_.empty()) {  // fakenect: the dump is over
+        FlushPending();
+        SetState("ended");
+        mailbox_.Close();
+        return;
+      }
+      if (rc < 0 || Clock::now() - last_frame_ > std::chrono::seconds(2)) {
+        Disconnect();
+        SetState(rc < 0 ? "reconnecting: libfreenect error " + std::to_string(rc)
+                        : "reconnecting: no frame for 2 s");
+      }
+    }
+  }
+
+  static void OnDepth(freenect_device* device, void* data, std::uint32_t timestamp) {
+    static_cast<FreenectSource*>(freenect_get_user(device))->Depth(data, timestamp);
+  }
+  static void OnVideo(freenect_device* device, void* data, std::uint32_t timestamp) {
+    static_cast<FreenectSource*>(freenect_get_user(device))->Video(data, timestamp);
+  }
+
+  // The Kinect's 32-bit timestamp, unwrapped: the first is taken as it is, later ones step by
+  // their signed difference (depth and colour frames may come slightly out of order).
+  std::int64_t Unwrap(std::uint32_t timestamp) {
+    if (!clock_started_) {
+      clock_started_ = true;
+      ticks_ = timestamp;
+    } else {
+      ticks_ += static_cast<std::int32_t>(timestamp - last_timestamp_);
+    }
+    last_timestamp_ = timestamp;
+    return ticks_;
+  }
+
+  struct Image {
+    std::vector<std::uint16_t> depth;  // millimetres (registered) or raw disparity
+    std::vector<std::uint8_t> rgb;
+    std::int64_t ticks = 0;
+  };
+
+  void Depth(void* data, std::uint32_t timestamp) {
+    last_frame_ = Clock::now();
+    Image image;
+    const auto* pixels = static_cast<const std::uint16_t*>(data);
+    image.depth.assign(pixels, pixels + kKinectWidth * kKinectHeight);
+    image.ticks = Unwrap(timestamp);
+    FlushPending();  // its colour did not come before the next depth frame
+    if (colour_ && std::abs(colour_->ticks - image.ticks) <= kPairingTolerance) {
+      Deliver(image, &colour_->rgb);
+    } else {
+      pending_ = std::move(image);
+    }
+  }
+
+  void Video(void* data, std::uint32_t timestamp) {
+    Image image;
+    const auto* pixels = static_cast<const std::uint8_t*>(data);
+    image.rgb.assign(pixels, pixels + kKinectWidth * kKinectHeight * 3);
+    image.ticks = Unwrap(timestamp);
+    colour_ = std::move(image);
+    if (pending_ && std::abs(pending_->ticks - colour_->ticks) <= kPairingTolerance) {
+      Deliver(*pending_, &colour_->rgb);
+      pending_.reset();
+    }
+  }
+
+  void FlushPending() {
+    if (!pending_) return;
+    ++unpaired_;
+    Deliver(*pending_, nullptr);
+    pending_.reset();
+  }
+
+  // A depth frame, with its colour when paired, as a cloud in the colour camera's frame.
+  void Deliver(const Image& depth, const std::vector<std::uint8_t>* rgb) {
+    Item item;
+    const CameraIntrinsics& k = calibration_.colour;
+    const std::uint8_t* colour = rgb ? rgb->data() : nullptr;
+    if (registered_) {
+      item.frame.cloud = std::make_shared<const Cloud>(DepthToCloud(depth.depth.data(), colour, k));
+    } else {
+      std::vector<std::uint16_t> mm(depth.depth.size());
+      for (std::size_t i = 0; i < mm.size(); ++i) mm[i] = KinectDisparityToMm(depth.depth[i]);
+      const auto seen = RegisterDepth(mm.data(), calibration_.depth,
+                                      calibration_.colour_from_depth, k);
+      item.frame.cloud = std::make_shared<const Cloud>(DepthToCloud(seen.data(), colour, k));
+    }
+    item.frame.intrinsics = k;
+    item.frame.capture_utime =
+        static_cast<std::int64_t>(std::llround(depth.ticks / (kKinectClockHz / 1e6)));
+    item.frame.sequence = sequence_++;
+    item.frame.arrival_steady_ns = SteadyNowNs();
+    ++produced_;
+    if (!replay_dir_.empty()) mailbox_.WaitUntilTaken();  // a replay loses nothing
+    mailbox_.Put(std::move(item));
+  }
+
+  std::string device_spec_;
+  bool raw_only_ = false;
+  ColourCalibration calibration_;
+  std::string replay_dir_;  // FAKENECT_PATH when replaying
+  int replay_frames_ = 0;
+  freenect_context* context_ = nullptr;
+  freenect_device* device_ = nullptr;
+  bool registered_ = false;  // the device registers depth to colour (millimetres)
+  // The worker's own state: pairing and the unwrapped clock.
+  std::optional<Image> pending_, colour_;
+  bool clock_started_ = false;
+  std::uint32_t last_timestamp_ = 0;
+  std::int64_t ticks_ = 0;
+  std::uint64_t sequence_ = 0;
+  Clock::time_point last_frame_;
+  Clock::time_point waiting_until_;
+  // Shared with the consumer and Stats().
+  LatestMailbox<Item> mailbox_;
+  std::atomic<bool> stopped_{false};
+  std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, unpaired_{0};
+  mutable std::mutex mutex_;
+  std::string state_ = "streaming";
+  std::mutex wake_mutex_;
+  std::condition_variable wake_;
+  std::thread worker_;
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSource> OpenFreenectDevice(const std::string& device,
+                                                const FreenectOptions& options,
+                                                double wait_at_start_s, std::string* error) {
+  auto source = std::make_unique<FreenectSource>();
+  if (!source->Open(device, options, wait_at_start_s, error)) return nullptr;
+  return source;
+}
+
+}  // namespace saccade
