@@ -16,7 +16,8 @@ constexpr double kFarthestMm = 10000.0;
 Eigen::Isometry3d ColourFromDepth(const double t[3], const double r[3]) {
   const Eigen::Vector3d rv(r[0], r[1], r[2]);
   Eigen::Isometry3d depth_from_colour = Eigen::Isometry3d::Identity();
-  if (rv.norm() > 0) depth_from_colour.linear() = Eigen::AngleAxisd(rv.norm(), rv.normalized()).matrix();
+  if (rv.norm() > 0)
+    depth_from_colour.linear() = Eigen::AngleAxisd(rv.norm(), rv.normalized()).matrix();
   depth_from_colour.translation() = Eigen::Vector3d(t[0], t[1], t[2]);
   return depth_from_colour.inverse();
 }
@@ -31,7 +32,8 @@ ColourCalibration NominalKinectCalibration() {
   return c;
 }
 
-std::vector<std::uint16_t> RegisterDepth(const std::uint16_t* depth_mm, const CameraIntrinsics& from,
+std::vector<std::uint16_t> RegisterDepth(const std::uint16_t* depth_mm,
+                                         const CameraIntrinsics& from,
                                          const Eigen::Isometry3d& to_from,
                                          const CameraIntrinsics& to, std::vector<int>* source) {
   const std::size_t n = static_cast<std::size_t>(to.width) * to.height;
@@ -44,8 +46,8 @@ std::vector<std::uint16_t> RegisterDepth(const std::uint16_t* depth_mm, const Ca
       const int i = v * from.width + u;
       if (depth_mm[i] == 0) continue;
       const double z = depth_mm[i] * 0.001;
-      const Eigen::Vector3d q = to_from * Eigen::Vector3d((u - from.cx) * z / from.fx,
-                                                          (v - from.cy) * z / from.fy, z);
+      const Eigen::Vector3d q =
+          to_from * Eigen::Vector3d((u - from.cx) * z / from.fx, (v - from.cy) * z / from.fy, z);
       if (!(q.z() > 0)) continue;
       const double x = to.fx * q.x() / q.z() + to.cx, y = to.fy * q.y() / q.z() + to.cy;
       // A twentieth of a pixel more, so that neighbours' footprints overlap despite rounding.

@@ -35,7 +35,8 @@ ColourCalibration NominalKinectCalibration();
 /// footprint in `to` (so nothing tears where `to` has the finer pixels), the nearest surface
 /// wins, and the pixels nothing lands on are 0. When `source` is given, it receives for each
 /// pixel of `to` the index of the `from` pixel that landed there (-1 for none).
-std::vector<std::uint16_t> RegisterDepth(const std::uint16_t* depth_mm, const CameraIntrinsics& from,
+std::vector<std::uint16_t> RegisterDepth(const std::uint16_t* depth_mm,
+                                         const CameraIntrinsics& from,
                                          const Eigen::Isometry3d& to_from,
                                          const CameraIntrinsics& to,
                                          std::vector<int>* source = nullptr);

@@ -38,7 +38,8 @@ bool CheckFakenectDump(const std::string& dir, int* depth_frames, std::string* e
     char type = 0;
     if (line.empty() || std::sscanf(line.c_str(), "%c-%lf-%u", &type, &seconds, &timestamp) != 3 ||
         (type != 'd' && type != 'r' && type != 'a') || line.find('/') != std::string::npos)
-      return Fail(error, where + "expected d-, r- or a-SECONDS-TIMESTAMP.EXT, found '" + line + "'");
+      return Fail(error,
+                  where + "expected d-, r- or a-SECONDS-TIMESTAMP.EXT, found '" + line + "'");
     const fs::path file = fs::path(dir) / line;
     std::error_code ec;
     const auto size = fs::file_size(file, ec);
@@ -101,8 +102,8 @@ bool FakenectWriter::Write(const Frame& frame, std::string* error) {
     rgb[3 * t] = p.r, rgb[3 * t + 1] = p.g, rgb[3 * t + 2] = p.b;
   }
   // What the depth camera sees, as the Kinect's raw disparity.
-  const auto ir_view = RegisterDepth(colour_view.data(), c.colour,
-                                     c.colour_from_depth.inverse(), c.depth);
+  const auto ir_view =
+      RegisterDepth(colour_view.data(), c.colour, c.colour_from_depth.inverse(), c.depth);
   std::vector<std::uint16_t> raw(ir_view.size());
   for (std::size_t i = 0; i < raw.size(); ++i) raw[i] = MmToKinectDisparity(ir_view[i]);
 

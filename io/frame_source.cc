@@ -560,10 +560,8 @@ std::unique_ptr<FrameSource> OpenSource(const std::string& text, std::string* er
     const auto registration = spec->options.find("registration");
     if (registration != spec->options.end()) {
       using R = ColourOptions::Registration;
-      const std::map<std::string, R> names = {{"auto", R::kAuto},
-                                              {"device", R::kDevice},
-                                              {"saccade", R::kSaccade},
-                                              {"none", R::kNone}};
+      const std::map<std::string, R> names = {
+          {"auto", R::kAuto}, {"device", R::kDevice}, {"saccade", R::kSaccade}, {"none", R::kNone}};
       const auto it = names.find(registration->second);
       if (it == names.end()) {
         Fail(error, "source '" + text + "': registration must be auto, device, saccade or none");

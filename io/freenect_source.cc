@@ -3,6 +3,7 @@
 #include "core/fail.h"
 #include "core/registration.h"
 #include "io/fakenect_dump.h"
+#include "io/frame_pairer.h"
 #include "io/images.h"
 #include "io/mailbox.h"
 
@@ -62,8 +63,9 @@ class FreenectSource : public FrameSource {
     }
     if (freenect_init(&context_, nullptr) < 0) {
       context_ = nullptr;
-      return Fail(error, Spec() + ": libfreenect cannot start (is libusb able to open the USB "
-                                  "devices? run as a member of the plugdev group)");
+      return Fail(error, Spec() +
+                             ": libfreenect cannot start (is libusb able to open the USB "
+                             "devices? run as a member of the plugdev group)");
     }
     freenect_set_log_level(context_, FREENECT_LOG_FATAL);  // its errors come back as ours
     freenect_select_subdevices(context_, FREENECT_DEVICE_CAMERA);
@@ -101,7 +103,7 @@ class FreenectSource : public FrameSource {
     s.produced = produced_;
     s.dropped = mailbox_.dropped();
     s.reconnects = reconnects_;
-    s.unpaired = unpaired_;
+    s.unpaired = unpaired_;  // copied from the pairer by the worker
     std::lock_guard<std::mutex> lock(mutex_);
     s.state = state_;
     return s;
@@ -115,7 +117,8 @@ class FreenectSource : public FrameSource {
       return Spec() + " (fakenect replay of " + replay_dir_ + ", " +
              std::to_string(replay_frames_) + " depth frames, raw disparity)";
     return Spec() + " (Kinect v1, " +
-           (registered_ ? "depth registered by the device" : "raw disparity registered by Saccade") +
+           (registered_ ? "depth registered by the device"
+                        : "raw disparity registered by Saccade") +
            ")";
   }
 
@@ -157,8 +160,9 @@ class FreenectSource : public FrameSource {
   bool Connect(std::string* why) {
     const int found = freenect_num_devices(context_);
     if (found <= 0)
-      return Fail(why, Spec() + ": no Kinect found (libfreenect lists none; is it plugged in, "
-                                "powered, and readable by this user?)");
+      return Fail(why, Spec() +
+                           ": no Kinect found (libfreenect lists none; is it plugged in, "
+                           "powered, and readable by this user?)");
     const bool by_index = std::all_of(device_spec_.begin(), device_spec_.end(),
                                       [](char c) { return c >= '0' && c <= '9'; });
     int rc = 0;
@@ -183,8 +187,8 @@ class FreenectSource : public FrameSource {
     const std::optional<freenect_frame_mode> video = RgbMode();
     if (!depth || !video) {
       Disconnect();
-      return Fail(why, Spec() + ": libfreenect offers no 640x480 " +
-                           (depth ? "RGB" : "depth") + " mode");
+      return Fail(
+          why, Spec() + ": libfreenect offers no 640x480 " + (depth ? "RGB" : "depth") + " mode");
     }
     freenect_set_user(device_, this);
     freenect_set_depth_callback(device_, &FreenectSource::OnDepth);
@@ -195,8 +199,7 @@ class FreenectSource : public FrameSource {
       Disconnect();
       return Fail(why, Spec() + ": cannot start the Kinect's depth and colour streams");
     }
-    pending_.reset();
-    colour_.reset();
+    pairer_.Clear();
     last_frame_ = Clock::now();
     return true;
   }
@@ -285,12 +288,8 @@ class FreenectSource : public FrameSource {
     const auto* pixels = static_cast<const std::uint16_t*>(data);
     image.depth.assign(pixels, pixels + kKinectWidth * kKinectHeight);
     image.ticks = Unwrap(timestamp);
-    FlushPending();  // its colour did not come before the next depth frame
-    if (colour_ && std::abs(colour_->ticks - image.ticks) <= kPairingTolerance) {
-      Deliver(image, &colour_->rgb);
-    } else {
-      pending_ = std::move(image);
-    }
+    const std::int64_t ticks = image.ticks;
+    pairer_.AddDepth(std::move(image), ticks);
   }
 
   void Video(void* data, std::uint32_t timestamp) {
@@ -298,32 +297,24 @@ class FreenectSource : public FrameSource {
     const auto* pixels = static_cast<const std::uint8_t*>(data);
     image.rgb.assign(pixels, pixels + kKinectWidth * kKinectHeight * 3);
     image.ticks = Unwrap(timestamp);
-    colour_ = std::move(image);
-    if (pending_ && std::abs(pending_->ticks - colour_->ticks) <= kPairingTolerance) {
-      Deliver(*pending_, &colour_->rgb);
-      pending_.reset();
-    }
+    const std::int64_t ticks = image.ticks;
+    pairer_.AddColour(std::move(image), ticks);
   }
 
-  void FlushPending() {
-    if (!pending_) return;
-    ++unpaired_;
-    Deliver(*pending_, nullptr);
-    pending_.reset();
-  }
+  void FlushPending() { pairer_.Flush(); }
 
   // A depth frame, with its colour when paired, as a cloud in the colour camera's frame.
-  void Deliver(const Image& depth, const std::vector<std::uint8_t>* rgb) {
+  void Deliver(const Image& depth, const Image* rgb) {
     Item item;
     const CameraIntrinsics& k = calibration_.colour;
-    const std::uint8_t* colour = rgb ? rgb->data() : nullptr;
+    const std::uint8_t* colour = rgb ? rgb->rgb.data() : nullptr;
     if (registered_) {
       item.frame.cloud = std::make_shared<const Cloud>(DepthToCloud(depth.depth.data(), colour, k));
     } else {
       std::vector<std::uint16_t> mm(depth.depth.size());
       for (std::size_t i = 0; i < mm.size(); ++i) mm[i] = KinectDisparityToMm(depth.depth[i]);
-      const auto seen = RegisterDepth(mm.data(), calibration_.depth,
-                                      calibration_.colour_from_depth, k);
+      const auto seen =
+          RegisterDepth(mm.data(), calibration_.depth, calibration_.colour_from_depth, k);
       item.frame.cloud = std::make_shared<const Cloud>(DepthToCloud(seen.data(), colour, k));
     }
     item.frame.intrinsics = k;
@@ -332,6 +323,7 @@ class FreenectSource : public FrameSource {
     item.frame.sequence = sequence_++;
     item.frame.arrival_steady_ns = SteadyNowNs();
     ++produced_;
+    unpaired_ = pairer_.unpaired();
     if (!replay_dir_.empty()) mailbox_.WaitUntilTaken();  // a replay loses nothing
     mailbox_.Put(std::move(item));
   }
@@ -344,8 +336,10 @@ class FreenectSource : public FrameSource {
   freenect_context* context_ = nullptr;
   freenect_device* device_ = nullptr;
   bool registered_ = false;  // the device registers depth to colour (millimetres)
-  // The worker's own state: pairing and the unwrapped clock.
-  std::optional<Image> pending_, colour_;
+  // The worker's own state: pairing (half a frame period) and the unwrapped clock.
+  FramePairer<Image, Image> pairer_{
+      kPairingTolerance,
+      [this](const Image& depth, const Image* colour) { Deliver(depth, colour); }};
   bool clock_started_ = false;
   std::uint32_t last_timestamp_ = 0;
   std::int64_t ticks_ = 0;
@@ -355,7 +349,7 @@ class FreenectSource : public FrameSource {
   // Shared with the consumer and Stats().
   LatestMailbox<Item> mailbox_;
   std::atomic<bool> stopped_{false};
-  std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, unpaired_{0};
+  std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, unpaired_{0};  // unpaired: as pairer_
   mutable std::mutex mutex_;
   std::string state_ = "streaming";
   std::mutex wake_mutex_;

@@ -21,11 +21,11 @@ struct FreenectOptions {
 /// device's own registration (FREENECT_DEPTH_REGISTERED, millimetres) when it offers it, or
 /// from its raw disparity (FREENECT_DEPTH_11BIT, which is all fakenect replays) converted and
 /// moved into the colour camera by Saccade (core/registration.h). Depth and colour frames are
-/// paired by the Kinect's timestamps (within half a frame period; a depth frame left without
-/// colour is delivered uncoloured and counted). Live: a latest-frame mailbox; when no frame
-/// has come for 2 s, or libfreenect fails, the device is closed and reopened with back-off
-/// (0.5 s doubling to 8 s); a device not there at start is waited for up to
-/// `wait_at_start_s`, as OpenOpenNI2Device does.
+/// paired by the Kinect's timestamps as OpenNI2's are (io/frame_pairer.h: within half a frame
+/// period; a depth frame left without colour is delivered uncoloured and counted). Live: a
+/// latest-frame mailbox; when no frame has come for 2 s, or libfreenect fails, the device is closed
+/// and reopened with back-off (0.5 s doubling to 8 s); a device not there at start is waited for up
+/// to `wait_at_start_s`, as OpenOpenNI2Device does.
 ///
 /// Under fakenect (FAKENECT_PATH set) the dump is checked whole first (CheckFakenectDump),
 /// and its end ends the source.

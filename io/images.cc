@@ -148,8 +148,8 @@ namespace {
 // A file of "key: number" lines (comments after '#'): only `keys`, each of `required` once.
 bool ReadKeyValues(const std::string& path, const char* what,
                    std::initializer_list<const char*> keys,
-                   std::initializer_list<const char*> required, std::map<std::string, double>* values,
-                   std::string* error) {
+                   std::initializer_list<const char*> required,
+                   std::map<std::string, double>* values, std::string* error) {
   std::ifstream in(path);
   if (!in) return Fail(error, path, std::string("cannot open ") + what);
   std::string line;
@@ -175,8 +175,8 @@ bool ReadKeyValues(const std::string& path, const char* what,
   return true;
 }
 
-const std::initializer_list<const char*> kIntrinsicsKeys = {"fx", "fy", "cx",
-                                                                "cy", "width", "height"};
+const std::initializer_list<const char*> kIntrinsicsKeys = {"fx", "fy",    "cx",
+                                                            "cy", "width", "height"};
 
 bool IntrinsicsFrom(const std::string& path, std::map<std::string, double>& values,
                     IntrinsicsFile* k, std::string* error) {
@@ -196,16 +196,16 @@ bool IntrinsicsFrom(const std::string& path, std::map<std::string, double>& valu
 
 bool ReadIntrinsicsFile(const std::string& path, IntrinsicsFile* k, std::string* error) {
   std::map<std::string, double> values;
-  return ReadKeyValues(path, "intrinsics file", kIntrinsicsKeys, kIntrinsicsKeys, &values,
-                       error) &&
+  return ReadKeyValues(path, "intrinsics file", kIntrinsicsKeys, kIntrinsicsKeys, &values, error) &&
          IntrinsicsFrom(path, values, k, error);
 }
 
 bool ReadColourCameraFile(const std::string& path, ColourCameraFile* c, std::string* error) {
   std::map<std::string, double> values;
-  if (!ReadKeyValues(path, "colour camera file",
-                     {"fx", "fy", "cx", "cy", "width", "height", "tx", "ty", "tz", "rx", "ry", "rz"},
-                     kIntrinsicsKeys, &values, error) ||
+  if (!ReadKeyValues(
+          path, "colour camera file",
+          {"fx", "fy", "cx", "cy", "width", "height", "tx", "ty", "tz", "rx", "ry", "rz"},
+          kIntrinsicsKeys, &values, error) ||
       !IntrinsicsFrom(path, values, &c->intrinsics, error))
     return false;
   const char* t[] = {"tx", "ty", "tz"};
@@ -217,8 +217,7 @@ bool ReadColourCameraFile(const std::string& path, ColourCameraFile* c, std::str
   return true;
 }
 
-bool WriteColourCameraFile(const std::string& path, const ColourCameraFile& c,
-                           std::string* error) {
+bool WriteColourCameraFile(const std::string& path, const ColourCameraFile& c, std::string* error) {
   std::ofstream out(path);
   out.precision(10);
   const IntrinsicsFile& k = c.intrinsics;

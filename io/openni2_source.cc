@@ -3,6 +3,7 @@
 #include "core/fail.h"
 
 #include "core/registration.h"
+#include "io/frame_pairer.h"
 #include "io/images.h"
 #include "io/mailbox.h"
 
@@ -11,10 +12,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <condition_variable>
-#include <deque>
+#include <cstring>
+#include <functional>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -75,7 +77,7 @@ const T* Packed(const openni::VideoFrameRef& ref, int channels, std::vector<T>* 
 
 // How a depth frame becomes a cloud: the depth camera, and where colour comes from.
 struct Conversion {
-  CameraIntrinsics depth;     // the depth stream's camera
+  CameraIntrinsics depth;        // the depth stream's camera
   bool register_colour = false;  // Saccade's registration: the depth moved into `colour`
   ColourCalibration calibration;
 };
@@ -92,7 +94,8 @@ bool ToFrame(const openni::VideoFrameRef& ref, const openni::VideoFrameRef* colo
   std::vector<std::uint16_t> repacked;
   const std::uint16_t* data = Packed(ref, 1, &repacked);
   if (format == openni::PIXEL_FORMAT_DEPTH_100_UM) {
-    if (repacked.empty()) repacked.assign(data, data + static_cast<std::size_t>(k.width) * k.height);
+    if (repacked.empty())
+      repacked.assign(data, data + static_cast<std::size_t>(k.width) * k.height);
     for (auto& d : repacked) d = static_cast<std::uint16_t>(d / 10);
     data = repacked.data();
   }
@@ -208,7 +211,10 @@ class StreamSource : public OpenNI2Source {
     s.produced = produced_;
     s.dropped = mailbox_.dropped() + skipped_;
     s.reconnects = reconnects_;
-    s.unpaired = unpaired_;
+    {
+      std::lock_guard<std::mutex> lock(pair_mutex_);
+      s.unpaired = pairer_.unpaired();
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     s.state = state_;
     return s;
@@ -252,14 +258,16 @@ class StreamSource : public OpenNI2Source {
     const bool colour = colour_options_.enabled && device_.hasSensor(openni::SENSOR_COLOR);
     Registration registration = colour_options_.registration;
     if (colour) {
-      const bool offered =
-          live && device_.isImageRegistrationModeSupported(openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR);
+      const bool offered = live && device_.isImageRegistrationModeSupported(
+                                       openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR);
       if (registration == Registration::kAuto)
-        registration = !live ? Registration::kNone
-                             : offered ? Registration::kDevice : Registration::kSaccade;
+        registration = !live     ? Registration::kNone
+                       : offered ? Registration::kDevice
+                                 : Registration::kSaccade;
       if (registration == Registration::kDevice && !offered)
-        return Fail(error, uri + ": the device offers no depth-to-colour registration "
-                                 "(registration=saccade registers with Saccade's own)");
+        return Fail(error, uri +
+                               ": the device offers no depth-to-colour registration "
+                               "(registration=saccade registers with Saccade's own)");
       const auto mode = registration == Registration::kDevice
                             ? openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR
                             : openni::IMAGE_REGISTRATION_OFF;
@@ -273,7 +281,10 @@ class StreamSource : public OpenNI2Source {
     conversion_.depth = IntrinsicsOf(depth_);
     const openni::VideoMode depth_mode = depth_.getVideoMode();
     const int fps = depth_mode.getFps() > 0 ? depth_mode.getFps() : 30;
-    tolerance_us_ = 1000000 / (2 * fps);
+    {
+      std::lock_guard<std::mutex> lock(pair_mutex_);
+      pairer_.set_tolerance(1000000 / (2 * fps));  // half a depth frame period, microseconds
+    }
     if (!colour) return true;
     if (colour_.create(device_, openni::SENSOR_COLOR) != openni::STATUS_OK)
       return Fail(error, uri + ": cannot open the colour stream: " + LastOpenNIError());
@@ -333,6 +344,7 @@ class StreamSource : public OpenNI2Source {
     StopRecording();
     RemoveListeners();
     ResetPairing();  // the frames held go back to their streams before the streams go
+    { std::lock_guard<std::mutex> emitted(emit_mutex_); }  // and those being converted
     for (openni::VideoStream* stream : {&colour_, &depth_}) {
       if (!stream->isValid()) continue;
       stream->stop();
@@ -350,62 +362,47 @@ class StreamSource : public OpenNI2Source {
     if (colour_.isValid()) colour_.removeNewFrameListener(&colour_listener_);
   }
 
+  // Where delivered frames go, one at a time and in order.
+  using Sink = std::function<void(Item)>;
+
   // Reads the frame the depth (`depth`) or colour stream has ready and pairs it; what is ready
-  // to deliver goes to `out`. Returns false (with an error item in `out`) when it cannot read.
-  bool ReadAndPair(bool depth, std::vector<Item>* out) {
+  // to deliver goes to `sink`. Returns false (with an error item to `sink`) when it cannot read.
+  bool ReadAndPair(bool depth, const Sink& sink) {
     openni::VideoFrameRef ref;
     if ((depth ? depth_ : colour_).readFrame(&ref) != openni::STATUS_OK) {
       Item item;
       item.ok = false;
       item.error = "OpenNI2 stream: cannot read a frame: " + LastOpenNIError();
-      out->push_back(std::move(item));
+      sink(std::move(item));
       return false;
     }
-    std::lock_guard<std::mutex> lock(pair_mutex_);
+    std::unique_lock<std::mutex> lock(pair_mutex_);
     if (!depth) {
-      colours_.push_back(ref);
-      if (colours_.size() > 4) colours_.pop_front();
-      if (pending_ && Near(*pending_, ref)) {
-        out->push_back(Deliver(*pending_, &ref));
-        pending_.reset();
-      }
-      return true;
-    }
-    // Frames libOpenNI2 skipped before reaching us count as dropped too.
-    if (last_index_ > 0 && ref.getFrameIndex() > last_index_ + 1)
-      skipped_ += static_cast<std::uint64_t>(ref.getFrameIndex() - last_index_ - 1);
-    last_index_ = ref.getFrameIndex();
-    if (!colour_.isValid()) {
-      out->push_back(Deliver(ref, nullptr));
-      return true;
-    }
-    if (pending_) {  // its colour did not come before the next depth frame
-      ++unpaired_;
-      out->push_back(Deliver(*pending_, nullptr));
-      pending_.reset();
-    }
-    const openni::VideoFrameRef* best = nullptr;
-    for (const auto& c : colours_)
-      if (Near(ref, c) && (!best || Gap(ref, c) < Gap(ref, *best))) best = &c;
-    if (best) {
-      out->push_back(Deliver(ref, best));
+      pairer_.AddColour(ref, static_cast<std::int64_t>(ref.getTimestamp()));
     } else {
-      pending_ = ref;
+      // Frames libOpenNI2 skipped before reaching us count as dropped too.
+      if (last_index_ > 0 && ref.getFrameIndex() > last_index_ + 1)
+        skipped_ += static_cast<std::uint64_t>(ref.getFrameIndex() - last_index_ - 1);
+      last_index_ = ref.getFrameIndex();
+      if (colour_.isValid()) {
+        pairer_.AddDepth(ref, static_cast<std::int64_t>(ref.getTimestamp()));
+      } else {
+        delivered_.push_back({ref, std::nullopt, sequence_++});
+      }
     }
+    Emit(&lock, sink);
     return true;
   }
 
-  // Delivers a depth frame still waiting for its colour, uncoloured (the stream ended).
-  void FlushPending(std::vector<Item>* out) {
-    std::lock_guard<std::mutex> lock(pair_mutex_);
-    if (!pending_) return;
-    ++unpaired_;
-    out->push_back(Deliver(*pending_, nullptr));
-    pending_.reset();
+  // Delivers the depth frames still waiting for their colour, uncoloured (the stream ended).
+  void FlushPending(const Sink& sink) {
+    std::unique_lock<std::mutex> lock(pair_mutex_);
+    pairer_.Flush();
+    Emit(&lock, sink);
   }
   bool HasPending() const {
     std::lock_guard<std::mutex> lock(pair_mutex_);
-    return pending_.has_value();
+    return pairer_.waiting();
   }
 
   void SetState(const std::string& state) {
@@ -432,21 +429,13 @@ class StreamSource : public OpenNI2Source {
   openni::Recorder recorder_;
   LatestMailbox<Item> mailbox_;
   std::atomic<bool> stopped_{false};
-  std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, skipped_{0}, unpaired_{0};
+  std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, skipped_{0};
   int last_index_ = 0;  // OpenNI2's own frame index of the last depth frame read
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   std::string state_ = "streaming";
 
  private:
-  static std::uint64_t Gap(const openni::VideoFrameRef& a, const openni::VideoFrameRef& b) {
-    return a.getTimestamp() > b.getTimestamp() ? a.getTimestamp() - b.getTimestamp()
-                                               : b.getTimestamp() - a.getTimestamp();
-  }
-  bool Near(const openni::VideoFrameRef& a, const openni::VideoFrameRef& b) const {
-    return Gap(a, b) <= tolerance_us_;
-  }
-
   // A colour mode for a live device: RGB888 at the depth's size when offered, else the
   // largest RGB888 mode. False when there is none.
   bool ChooseRgbMode(const openni::VideoMode& depth) {
@@ -457,9 +446,7 @@ class StreamSource : public OpenNI2Source {
       if (modes[i].getPixelFormat() != openni::PIXEL_FORMAT_RGB888) continue;
       const bool same = modes[i].getResolutionX() == depth.getResolutionX() &&
                         modes[i].getResolutionY() == depth.getResolutionY();
-      if (best < 0 || same ||
-          modes[i].getResolutionX() > modes[best].getResolutionX())
-        best = i;
+      if (best < 0 || same || modes[i].getResolutionX() > modes[best].getResolutionX()) best = i;
       if (same) break;
     }
     if (best < 0) return false;
@@ -472,25 +459,47 @@ class StreamSource : public OpenNI2Source {
 
   void ResetPairing() {
     std::lock_guard<std::mutex> lock(pair_mutex_);
-    pending_.reset();
-    colours_.clear();
+    pairer_.Clear();
   }
 
-  // The depth frame (with its colour frame, or none) as an Item with the next sequence number.
-  Item Deliver(const openni::VideoFrameRef& depth, const openni::VideoFrameRef* colour) {
-    Item item;
-    item.ok = ToFrame(depth, colour, conversion_, &item.frame, &item.error);
-    item.frame.sequence = sequence_++;
-    item.frame.arrival_steady_ns = SteadyNowNs();
-    ++produced_;
-    return item;
+  // A depth frame the pairer delivered, with its colour frame or none, and its number.
+  struct Paired {
+    openni::VideoFrameRef depth;
+    std::optional<openni::VideoFrameRef> colour;
+    std::uint64_t sequence;
+  };
+
+  // Converts what the pairer delivered and hands it to `sink` outside the pairing lock (the
+  // other stream's thread pairs on meanwhile), in pairing order: the emit lock is taken before
+  // the pairing lock is let go.
+  void Emit(std::unique_lock<std::mutex>* lock, const Sink& sink) {
+    std::vector<Paired> paired;
+    paired.swap(delivered_);
+    if (paired.empty()) return;
+    std::lock_guard<std::mutex> emitting(emit_mutex_);
+    lock->unlock();
+    for (const Paired& p : paired) {
+      Item item;
+      item.ok =
+          ToFrame(p.depth, p.colour ? &*p.colour : nullptr, conversion_, &item.frame, &item.error);
+      item.frame.sequence = p.sequence;
+      item.frame.arrival_steady_ns = SteadyNowNs();
+      ++produced_;
+      sink(std::move(item));
+    }
+    paired.clear();  // the frames go back to their streams, which CloseStream keeps until here
   }
 
   Conversion conversion_;
-  std::uint64_t tolerance_us_ = 16666;  // half a depth frame period
-  mutable std::mutex pair_mutex_;       // the pairing state below, from either stream's thread
-  std::optional<openni::VideoFrameRef> pending_;  // a depth frame waiting for its colour
-  std::deque<openni::VideoFrameRef> colours_;     // the last colour frames, oldest first
+  mutable std::mutex pair_mutex_;  // the pairing state below, from either stream's thread
+  std::mutex emit_mutex_;          // held while delivered frames are converted and handed on
+  FramePairer<openni::VideoFrameRef, openni::VideoFrameRef> pairer_{
+      16666, [this](const openni::VideoFrameRef& depth, const openni::VideoFrameRef* colour) {
+        delivered_.push_back({depth,
+                              colour ? std::optional<openni::VideoFrameRef>(*colour) : std::nullopt,
+                              sequence_++});
+      }};
+  std::vector<Paired> delivered_;  // what the pairer delivered during the current call
   std::uint64_t sequence_ = 0;
 };
 
@@ -522,9 +531,7 @@ class DeviceSource : public StreamSource {
 
   void OnFrame(bool depth) override {
     if (depth) last_frame_ = Clock::now().time_since_epoch().count();
-    std::vector<Item> ready;
-    ReadAndPair(depth, &ready);
-    for (auto& item : ready) mailbox_.Put(std::move(item));
+    ReadAndPair(depth, [this](Item item) { mailbox_.Put(std::move(item)); });
   }
   bool Live() const override { return true; }
   std::string Describe() const override {
@@ -644,11 +651,12 @@ class PlaybackSource : public StreamSource {
     // responsive. After the last depth frame of a non-looping recording, a few more reads look
     // for its colour frame.
     int after_end = 0;
+    const auto to_ready = [this](Item item) { ready_.push_back(std::move(item)); };
     while (ready_.empty()) {
       if (stopped_) return Status::kEnd;
       const bool at_end = !options_.loop && read_ >= frames_;
       if (at_end && (!HasPending() || after_end >= kReadsAfterEnd)) {
-        FlushPending(&ready_);
+        FlushPending(to_ready);
         if (ready_.empty()) {
           SetState("ended");
           return Status::kEnd;
@@ -674,7 +682,7 @@ class PlaybackSource : public StreamSource {
       } else if (ready == 0) {
         ++read_;
       }
-      ReadAndPair(ready == 0, &ready_);
+      ReadAndPair(ready == 0, to_ready);
     }
     Item item = std::move(ready_.front());
     ready_.erase(ready_.begin());
@@ -689,18 +697,18 @@ class PlaybackSource : public StreamSource {
   void OnFrame(bool depth) override {
     if (stopped_ || ended_) return;
     const int previous = last_index_;
-    std::vector<Item> ready;
-    ReadAndPair(depth, &ready);
     // The player repeats (see Open): a non-looping playback ends at the last frame, or at the
     // wrap when libOpenNI2 skipped the last frame in fast mode.
-    const bool wrapped = depth && last_index_ < previous;
-    for (auto& item : ready)
-      if (!(wrapped && !options_.loop)) mailbox_.Put(std::move(item));
+    const auto put = [this](Item item) { mailbox_.Put(std::move(item)); };
+    bool wrapped = false;
+    ReadAndPair(depth, [&](Item item) {
+      wrapped = depth && last_index_ < previous;
+      if (!(wrapped && !options_.loop)) put(std::move(item));
+    });
+    wrapped = depth && last_index_ < previous;
     if (depth && !options_.loop && (wrapped || last_index_ >= frames_)) {
       ended_ = true;
-      std::vector<Item> last;
-      FlushPending(&last);
-      for (auto& item : last) mailbox_.Put(std::move(item));
+      FlushPending(put);
       SetState("ended");
       mailbox_.Close();
     }
@@ -716,8 +724,8 @@ class PlaybackSource : public StreamSource {
   std::string path_;
   OniPlaybackOptions options_;
   int frames_ = 0;
-  int read_ = 0;                // depth frames read in step mode
-  std::vector<Item> ready_;     // step mode: frames paired and not yet returned
+  int read_ = 0;             // depth frames read in step mode
+  std::vector<Item> ready_;  // step mode: frames paired and not yet returned
   std::atomic<bool> ended_{false};
 };
 

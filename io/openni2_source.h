@@ -11,16 +11,18 @@ namespace saccade {
 /// A FrameSource backed by an openni::VideoStream, which can also be recorded.
 class OpenNI2Source : public FrameSource {
  public:
-  /// Starts writing every frame the streams (depth, and colour when open) deliver to an .oni file (openni::Recorder) until
-  /// the source is destroyed or StopRecording(). False with `error` when it cannot.
+  /// Starts writing every frame the streams (depth, and colour when open) deliver to an .oni file
+  /// (openni::Recorder) until the source is destroyed or StopRecording(). False with `error` when
+  /// it cannot.
   virtual bool StartRecording(const std::string& oni_path, std::string* error) = 0;
   virtual void StopRecording() = 0;
 };
 
-/// How colour joins depth. Depth and colour frames are paired by timestamp: a depth frame takes
-/// the colour frame nearest in time within half a depth frame period, and waits for it at most
-/// until the next depth frame; a depth frame left without one is delivered uncoloured and
-/// counted (SourceStats::unpaired).
+/// How colour joins depth. Depth and colour frames are paired by timestamp (io/frame_pairer.h):
+/// a depth frame takes the colour frame nearest in time within half a depth frame period; it
+/// waits for it while no more than 3 depth frames wait and the colour stream has not passed its
+/// time; a depth frame left without one is delivered uncoloured and counted
+/// (SourceStats::unpaired).
 struct ColourOptions {
   bool enabled = true;  // open the colour stream when the device has one
   enum class Registration {

@@ -32,6 +32,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -75,8 +76,8 @@ bool LoadRecording(const std::string& dir, Recording* out) {
     if (rgb_path.empty()) continue;
     saccade::RgbImage rgb;
     if (!saccade::ReadRgbImage(rgb_path, &rgb, &error)) return false;
-    if (!out->colour.empty() && (rgb.width != out->colour[0].width ||
-                                 rgb.height != out->colour[0].height))
+    if (!out->colour.empty() &&
+        (rgb.width != out->colour[0].width || rgb.height != out->colour[0].height))
       return false;  // one colour stream, one size
     out->colour.push_back(std::move(rgb));
   }
@@ -94,7 +95,7 @@ bool LoadRecording(const std::string& dir, Recording* out) {
   out->colour_intrinsics = camera.intrinsics;
   if (out->colour[0].width != camera.intrinsics.width ||
       out->colour[0].height != camera.intrinsics.height) {
-    if (second_camera) return false;  // the file describes other images
+    if (second_camera) return false;                      // the file describes other images
     out->colour_intrinsics.width = out->colour[0].width;  // colour of another size, unregistered
     out->colour_intrinsics.height = out->colour[0].height;
   }
@@ -104,37 +105,50 @@ bool LoadRecording(const std::string& dir, Recording* out) {
   if (!same_size || (registration && std::string(registration) == "0")) return true;
   const Eigen::Isometry3d colour_from_depth = saccade::ColourFromDepth(camera.t, camera.r);
   for (const auto& depth : out->frames)
-    out->registered.push_back(second_camera ? saccade::RegisterDepth(depth.data.data(),
-                                                                     ToCamera(out->intrinsics),
-                                                                     colour_from_depth,
-                                                                     ToCamera(camera.intrinsics))
-                                            : depth.data);
+    out->registered.push_back(
+        second_camera ? saccade::RegisterDepth(depth.data.data(), ToCamera(out->intrinsics),
+                                               colour_from_depth, ToCamera(camera.intrinsics))
+                      : depth.data);
   return true;
 }
 
-// What the streams share: the recording, the device's frame clock, and whether the depth is
-// registered to colour now.
-struct DeviceState {
-  Recording recording;
-  std::chrono::steady_clock::time_point epoch = std::chrono::steady_clock::now();
+class ImageStream;
+
+// What the streams share: the recording, whether the depth is registered to colour now, and
+// the device's frame clock: one thread raises frame n of every started stream, colour first,
+// as a sensor that synchronises its streams does.
+class DeviceState {
+ public:
+  explicit DeviceState(Recording r) : recording(std::move(r)) {}
+  ~DeviceState();
+  void Start(ImageStream* stream);
+  void Stop(ImageStream* stream);
+
+  const Recording recording;
   std::atomic<bool> registered{false};
+
+ private:
+  void Run();
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::vector<ImageStream*> streams_;  // started, colour before depth
+  bool quit_ = false;
+  std::thread thread_;
 };
 
 class ImageStream : public oni::driver::StreamBase {
  public:
-  ImageStream(const DeviceState* device, OniSensorType type) : device_(device), type_(type) {}
+  ImageStream(DeviceState* device, OniSensorType type) : device_(device), type_(type) {}
   ~ImageStream() override { stop(); }
 
   OniStatus start() override {
-    if (running_) return ONI_STATUS_OK;
-    running_ = true;
-    thread_ = std::thread([this] { Run(); });
+    sent_ = 0;
+    device_->Start(this);
     return ONI_STATUS_OK;
   }
-  void stop() override {
-    running_ = false;
-    if (thread_.joinable()) thread_.join();
-  }
+  void stop() override { device_->Stop(this); }
+  OniSensorType type() const { return type_; }
 
   OniBool isPropertySupported(int id) override {
     return id == ONI_STREAM_PROPERTY_VIDEO_MODE || id == ONI_STREAM_PROPERTY_HORIZONTAL_FOV ||
@@ -223,51 +237,82 @@ class ImageStream : public oni::driver::StreamBase {
     return ONI_STATUS_OK;
   }
 
-  // Frame n of the device's clock is due at epoch + n periods, on every stream.
-  void Run() {
+ public:
+  // Raises frame `index` of the device's clock (from 1): image (index - 1) mod count.
+  void Emit(int index) {
     const Recording& r = device_->recording;
-    const auto period = std::chrono::microseconds(1000000 / r.fps);
-    int index = static_cast<int>((std::chrono::steady_clock::now() - device_->epoch) / period) + 1;
-    for (int sent = 0; running_; ++index) {
-      std::this_thread::sleep_until(device_->epoch + index * period);  // the camera's clock
-      if (r.stall_after > 0 && ++sent > r.stall_after) continue;
-      const std::size_t image = static_cast<std::size_t>(index - 1) % r.frames.size();
-      const void* pixels = nullptr;
-      if (type_ == ONI_SENSOR_COLOR) {
-        pixels = r.colour[image].data.data();
-      } else {
-        pixels = device_->registered ? r.registered[image].data() : r.frames[image].data.data();
-      }
-      OniFrame* frame = getServices().acquireFrame();
-      if (!frame) continue;
-      const auto& k = Camera();
-      const int bytes = k.width * k.height * PixelBytes();
-      std::memcpy(frame->data, pixels, bytes);
-      frame->dataSize = bytes;
-      frame->sensorType = type_;
-      frame->frameIndex = index;
-      frame->timestamp = static_cast<uint64_t>(index) * 1000000u / r.fps;
-      frame->videoMode = Mode();
-      frame->width = k.width;
-      frame->height = k.height;
-      frame->croppingEnabled = FALSE;
-      frame->cropOriginX = frame->cropOriginY = 0;
-      frame->stride = k.width * PixelBytes();
-      raiseNewFrame(frame);
-      getServices().releaseFrame(frame);
+    if (r.stall_after > 0 && ++sent_ > r.stall_after) return;  // unplugged
+    const std::size_t image = static_cast<std::size_t>(index - 1) % r.frames.size();
+    const void* pixels = nullptr;
+    if (type_ == ONI_SENSOR_COLOR) {
+      pixels = r.colour[image].data.data();
+    } else {
+      pixels = device_->registered ? r.registered[image].data() : r.frames[image].data.data();
     }
+    OniFrame* frame = getServices().acquireFrame();
+    if (!frame) return;
+    const auto& k = Camera();
+    const int bytes = k.width * k.height * PixelBytes();
+    std::memcpy(frame->data, pixels, bytes);
+    frame->dataSize = bytes;
+    frame->sensorType = type_;
+    frame->frameIndex = index;
+    frame->timestamp = static_cast<uint64_t>(index) * 1000000u / r.fps;
+    frame->videoMode = Mode();
+    frame->width = k.width;
+    frame->height = k.height;
+    frame->croppingEnabled = FALSE;
+    frame->cropOriginX = frame->cropOriginY = 0;
+    frame->stride = k.width * PixelBytes();
+    raiseNewFrame(frame);
+    getServices().releaseFrame(frame);
   }
 
-  const DeviceState* device_;
+ private:
+  DeviceState* device_;
   const OniSensorType type_;
-  std::atomic<bool> running_{false};
-  std::thread thread_;
+  int sent_ = 0;  // frames raised since the stream started
 };
+
+DeviceState::~DeviceState() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    quit_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void DeviceState::Start(ImageStream* stream) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (std::find(streams_.begin(), streams_.end(), stream) != streams_.end()) return;
+  if (stream->type() == ONI_SENSOR_COLOR) {
+    streams_.insert(streams_.begin(), stream);
+  } else {
+    streams_.push_back(stream);
+  }
+  if (!thread_.joinable()) thread_ = std::thread([this] { Run(); });
+}
+
+void DeviceState::Stop(ImageStream* stream) {
+  std::lock_guard<std::mutex> lock(mutex_);  // not while Run raises a frame of it
+  streams_.erase(std::remove(streams_.begin(), streams_.end(), stream), streams_.end());
+}
+
+// Frame n is due at start + n periods (the camera's own clock).
+void DeviceState::Run() {
+  const auto period = std::chrono::microseconds(1000000 / recording.fps);
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (int index = 1; !quit_; ++index) {
+    if (wake_.wait_until(lock, start + index * period, [this] { return quit_; })) break;
+    for (ImageStream* stream : streams_) stream->Emit(index);
+  }
+}
 
 class VirtualDevice : public oni::driver::DeviceBase {
  public:
-  explicit VirtualDevice(Recording recording) {
-    state_.recording = std::move(recording);
+  explicit VirtualDevice(Recording recording) : state_(std::move(recording)) {
     const Recording& r = state_.recording;
     modes_[0] = ImageStream::ModeOf(r, ONI_SENSOR_DEPTH);
     modes_[1] = ImageStream::ModeOf(r, ONI_SENSOR_COLOR);
@@ -293,8 +338,8 @@ class VirtualDevice : public oni::driver::DeviceBase {
     if (id == ONI_DEVICE_PROPERTY_IMAGE_REGISTRATION) {
       if (*size < static_cast<int>(sizeof(OniImageRegistrationMode)))
         return ONI_STATUS_BAD_PARAMETER;
-      const OniImageRegistrationMode mode = state_.registered ? ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR
-                                                              : ONI_IMAGE_REGISTRATION_OFF;
+      const OniImageRegistrationMode mode =
+          state_.registered ? ONI_IMAGE_REGISTRATION_DEPTH_TO_COLOR : ONI_IMAGE_REGISTRATION_OFF;
       std::memcpy(data, &mode, sizeof(mode));
       *size = sizeof(mode);
       return ONI_STATUS_OK;

@@ -195,8 +195,20 @@ TEST(Cli, RecordFromOpenNI2GivesColouredClouds) {
               std::string("env LD_LIBRARY_PATH=") + SACCADE_OPENNI2_RUNTIME +
                   " SACCADE_VIRTUAL_DEVICE=" + images + " ");
   ASSERT_EQ(r.code, 0) << r.out;
-  for (int i = 0; i < 3; ++i)
-    EXPECT_GT(ColouredShare(out + "/frame_00000" + std::to_string(i) + ".pcd"), 0.99);
+  // A frame whose colour frame came too late (a loaded machine) is recorded uncoloured, and
+  // the summary counts it (with any such frame dropped); every other is coloured.
+  int unpaired = 0;
+  const auto at = r.out.find(" without their colour frame");
+  if (at != std::string::npos)
+    unpaired = std::atoi(r.out.substr(r.out.rfind(", ", at) + 2).c_str());
+  int coloured = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double share = ColouredShare(out + "/frame_00000" + std::to_string(i) + ".pcd");
+    EXPECT_TRUE(share > 0.99 || share == 0) << share;
+    coloured += share > 0.99;
+  }
+  EXPECT_GE(coloured + unpaired, 3) << r.out;
+  EXPECT_GE(coloured, 1) << r.out;
 }
 
 TEST(Cli, MissingKinectIsOneLineAndExitOne) {

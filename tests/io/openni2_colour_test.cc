@@ -108,6 +108,27 @@ class OpenNI2ColourTest : public ::testing::Test {
     return *points ? static_cast<double>(agree) / *points : 0.0;
   }
 
+  // Reads 6 frames of a live source: each coloured one must agree with the pattern; a frame
+  // whose colour frame came too late (a loaded machine) is uncoloured and counted as unpaired.
+  static void ExpectRegistered(FrameSource* source) {
+    std::string error;
+    Frame f;
+    std::uint64_t uncoloured = 0;
+    for (int n = 0; n < 6; ++n) {
+      ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
+      if (std::none_of(f.cloud->begin(), f.cloud->end(),
+                       [](const PointT& p) { return p.r || p.g || p.b; })) {
+        ++uncoloured;
+        continue;
+      }
+      int points = 0;
+      EXPECT_GT(Agreement(f, true, &points), 0.995) << "frame " << n;
+      EXPECT_GT(points, 5000);
+    }
+    EXPECT_LE(uncoloured, 2u);
+    EXPECT_GE(source->Stats().unpaired, uncoloured);
+  }
+
   static std::string dir_;
   static ColourCameraFile camera_;
 };
@@ -118,13 +139,7 @@ TEST_F(OpenNI2ColourTest, TheDevicesRegistrationPutsEachColourOnItsPoint) {
   std::string error;
   auto source = OpenSource("openni2://", &error);
   ASSERT_TRUE(source) << error;
-  Frame f;
-  for (int n = 0; n < 4; ++n) {
-    ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
-    int points = 0;
-    EXPECT_GT(Agreement(f, true, &points), 0.995) << "frame " << n;
-    EXPECT_GT(points, 5000);
-  }
+  ExpectRegistered(source.get());
 }
 
 TEST_F(OpenNI2ColourTest, SaccadesRegistrationDoesTheSameWhenTheDeviceHasNone) {
@@ -132,16 +147,9 @@ TEST_F(OpenNI2ColourTest, SaccadesRegistrationDoesTheSameWhenTheDeviceHasNone) {
   std::string error;
   EXPECT_FALSE(OpenSource("openni2://?registration=device", &error));
   EXPECT_NE(error.find("offers no depth-to-colour registration"), std::string::npos) << error;
-  auto source =
-      OpenSource("openni2://?calibration=" + dir_ + "/" + kColourCameraFileName, &error);
+  auto source = OpenSource("openni2://?calibration=" + dir_ + "/" + kColourCameraFileName, &error);
   ASSERT_TRUE(source) << error;
-  Frame f;
-  for (int n = 0; n < 4; ++n) {
-    ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
-    int points = 0;
-    EXPECT_GT(Agreement(f, true, &points), 0.995) << "frame " << n;
-    EXPECT_GT(points, 5000);
-  }
+  ExpectRegistered(source.get());
 }
 
 // What the check above would catch: the other camera's colour taken pixel for pixel.

@@ -74,7 +74,6 @@ TEST_F(OpenNI2Test, LiveDeviceDeliversTheImagesInOrderWithKinectIntrinsics) {
   ASSERT_TRUE(source) << error;
   EXPECT_TRUE(source->Live());
   Frame f;
-  int previous = -1;
   std::int64_t previous_utime = 0;
   for (int n = 0; n < 6; ++n) {
     ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
@@ -85,9 +84,7 @@ TEST_F(OpenNI2Test, LiveDeviceDeliversTheImagesInOrderWithKinectIntrinsics) {
     // The device's timestamp says which image it is: frame k (from 1) at k / 30 s.
     const long k = std::lround(f.capture_utime * 30 / 1e6);
     EXPECT_EQ(image, (k - 1) % kImages);
-    EXPECT_NE(image, previous) << "a frame repeated";
-    EXPECT_GT(f.capture_utime, previous_utime) << "frames out of order";
-    previous = image;
+    EXPECT_GT(f.capture_utime, previous_utime) << "a frame repeated or out of order";
     previous_utime = f.capture_utime;
   }
   EXPECT_EQ(source->Stats().state, "streaming");
