@@ -11,6 +11,12 @@ namespace {
 constexpr double kScale = 0.0030711016;
 constexpr double kOffset = 3.3309495161;
 constexpr double kFarthestMm = 10000.0;
+
+// floor() for the pixel range of a footprint, without a library call (x within int's range).
+int Floor(double x) {
+  const int i = static_cast<int>(x);
+  return i - (x < i);
+}
 }  // namespace
 
 Eigen::Isometry3d ColourFromDepth(const double t[3], const double r[3]) {
@@ -39,35 +45,43 @@ std::vector<std::uint16_t> RegisterDepth(const std::uint16_t* depth_mm,
   const std::size_t n = static_cast<std::size_t>(to.width) * to.height;
   std::vector<std::uint16_t> out(n, 0);
   if (source) source->assign(n, -1);
+  // A pixel's ray turned into `to`'s frame, R (x_n, y_n, 1), from a part per column and a part
+  // per row (computed once each).
+  const Eigen::Matrix3d& r = to_from.linear();
+  const Eigen::Vector3d t = to_from.translation();
+  std::vector<Eigen::Vector3d> column(static_cast<std::size_t>(from.width));
+  for (int u = 0; u < from.width; ++u) column[u] = r.col(0) * ((u - from.cx) / from.fx);
   // Half a pixel of `from`, measured in pixels of `to` at unit depth ratio.
   const double half_u = 0.5 * to.fx / from.fx, half_v = 0.5 * to.fy / from.fy;
   for (int v = 0; v < from.height; ++v) {
+    const Eigen::Vector3d row = r.col(1) * ((v - from.cy) / from.fy) + r.col(2);
     for (int u = 0; u < from.width; ++u) {
       const int i = v * from.width + u;
       if (depth_mm[i] == 0) continue;
       const double z = depth_mm[i] * 0.001;
-      const Eigen::Vector3d q =
-          to_from * Eigen::Vector3d((u - from.cx) * z / from.fx, (v - from.cy) * z / from.fy, z);
+      const Eigen::Vector3d q = (column[u] + row) * z + t;
       if (!(q.z() > 0)) continue;
-      const double x = to.fx * q.x() / q.z() + to.cx, y = to.fy * q.y() / q.z() + to.cy;
+      const double inverse_z = 1.0 / q.z();
+      const double x = to.fx * q.x() * inverse_z + to.cx, y = to.fy * q.y() * inverse_z + to.cy;
+      if (!(std::abs(x) < 1e6 && std::abs(y) < 1e6)) continue;  // far outside (grazing)
       // A twentieth of a pixel more, so that neighbours' footprints overlap despite rounding.
-      const double su = half_u * z / q.z() + 0.05, sv = half_v * z / q.z() + 0.05;
+      const double su = half_u * z * inverse_z + 0.05, sv = half_v * z * inverse_z + 0.05;
       // The target pixels whose centres lie within the footprint; at least the nearest one.
-      int u0 = static_cast<int>(std::ceil(x - su)), u1 = static_cast<int>(std::floor(x + su));
-      int v0 = static_cast<int>(std::ceil(y - sv)), v1 = static_cast<int>(std::floor(y + sv));
-      if (u0 > u1) u0 = u1 = static_cast<int>(std::lround(x));
-      if (v0 > v1) v0 = v1 = static_cast<int>(std::lround(y));
+      int u0 = -Floor(su - x), u1 = Floor(x + su);
+      int v0 = -Floor(sv - y), v1 = Floor(y + sv);
+      if (u0 > u1) u0 = u1 = Floor(x + 0.5);
+      if (v0 > v1) v0 = v1 = Floor(y + 0.5);
       u0 = std::max(u0, 0), v0 = std::max(v0, 0);
       u1 = std::min(u1, to.width - 1), v1 = std::min(v1, to.height - 1);
-      const double mm = std::round(q.z() * 1000.0);
-      if (mm < 1 || mm > std::numeric_limits<std::uint16_t>::max()) continue;
+      const double mm = q.z() * 1000.0 + 0.5;
+      if (mm < 1 || mm >= std::numeric_limits<std::uint16_t>::max()) continue;
       const auto z_to = static_cast<std::uint16_t>(mm);
       for (int tv = v0; tv <= v1; ++tv) {
         for (int tu = u0; tu <= u1; ++tu) {
-          const std::size_t t = static_cast<std::size_t>(tv) * to.width + tu;
-          if (out[t] != 0 && out[t] <= z_to) continue;  // a nearer surface is already there
-          out[t] = z_to;
-          if (source) (*source)[t] = i;
+          const std::size_t k = static_cast<std::size_t>(tv) * to.width + tu;
+          if (out[k] != 0 && out[k] <= z_to) continue;  // a nearer surface is already there
+          out[k] = z_to;
+          if (source) (*source)[k] = i;
         }
       }
     }

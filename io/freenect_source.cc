@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdlib>
 #include <mutex>
@@ -229,7 +230,10 @@ class FreenectSource : public FrameSource {
         if (waiting && Clock::now() >= waiting_until_) {  // the wait at start is over
           Item item;
           item.ok = false;
-          item.error = why + " (waited for it)";
+          item.error = why + " (waited " +
+                       std::to_string(static_cast<long long>(std::lround(
+                           std::chrono::duration<double>(Clock::now() - started_).count()))) +
+                       " s for it)";
           mailbox_.Put(std::move(item));
           mailbox_.Close();
           return;
@@ -346,6 +350,7 @@ class FreenectSource : public FrameSource {
   std::uint64_t sequence_ = 0;
   Clock::time_point last_frame_;
   Clock::time_point waiting_until_;
+  const Clock::time_point started_ = Clock::now();
   // Shared with the consumer and Stats().
   LatestMailbox<Item> mailbox_;
   std::atomic<bool> stopped_{false};

@@ -4,11 +4,13 @@
 // (docs/BENCHMARKS.md). A benchmark, not a test: nothing here asserts a time.
 #include "core/foveation.h"
 #include "core/recognition.h"
+#include "core/registration.h"
 #include "core/sim/scenario.h"
 #include "core/tracking.h"
 
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <optional>
 
 namespace saccade {
@@ -80,6 +82,21 @@ void BM_DescribeModel(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(DescribeModel(f.demo.model, f.options, nullptr));
 }
 BENCHMARK(BM_DescribeModel)->Unit(benchmark::kMillisecond);
+
+// Saccade's own depth-to-colour registration of one 640x480 frame (a sensor that does not
+// register, and the Kinect's raw disparity through freenect://): the nominal Kinect layout.
+void BM_RegisterDepth(benchmark::State& state) {
+  const Fixture& f = Demo();
+  const ColourCalibration c = NominalKinectCalibration();
+  std::vector<std::uint16_t> depth(f.demo.scene.cloud.size(), 0);
+  for (std::size_t i = 0; i < depth.size(); ++i) {
+    const float z = f.demo.scene.cloud[i].z;
+    if (std::isfinite(z)) depth[i] = static_cast<std::uint16_t>(z * 1000.0f);
+  }
+  for (auto _ : state)
+    benchmark::DoNotOptimize(RegisterDepth(depth.data(), c.depth, c.colour_from_depth, c.colour));
+}
+BENCHMARK(BM_RegisterDepth)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace saccade

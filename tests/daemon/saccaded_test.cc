@@ -429,20 +429,22 @@ TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
 }
 
-// demo.yaml with the source an OpenNI2 camera waited for `wait_s` at start.
-std::string LateCameraConfig(const Sandbox& box, double wait_s) {
+// demo.yaml with the source a camera (`spec`) waited for `wait_s` at start.
+std::string LateCameraConfig(const Sandbox& box, double wait_s,
+                             const std::string& spec = "openni2://") {
   std::string text = ReadFile(kSourceDir + "/configs/demo.yaml");
   const std::size_t at = text.find("source: ");
   text.replace(at, text.find('\n', at) - at,
-               "source:\n  spec: \"openni2://\"\n  wait_at_start_s: " + std::to_string(wait_s));
+               "source:\n  spec: \"" + spec + "\"\n  wait_at_start_s: " + std::to_string(wait_s));
   const std::string config = box.Path("late.yaml");
   std::ofstream(config) << text;
   return config;
 }
 
 // The virtual OpenNI2 camera (through the real libOpenNI2) serves a folder that is not there
-// when saccaded starts: it waits, saying so in STATUS, and streams once the folder appears.
-TEST(Saccaded, ACameraThatComesLateIsWaitedForThenStreams) {
+// when saccaded starts: it waits, saying so in STATUS, and streams once the folder appears,
+// 10 s after the start (found at the next back-off step: 0.5 s doubling to 8 s).
+TEST(Saccaded, ACameraThatComesTenSecondsLateIsWaitedForThenStreams) {
   Sandbox box;
   StatusWatch watch(box.url);
   const std::string frames = box.Path("frames"), camera = box.Path("camera");
@@ -456,7 +458,8 @@ TEST(Saccaded, ACameraThatComesLateIsWaitedForThenStreams) {
                        {"LD_LIBRARY_PATH=" + std::string(SACCADE_OPENNI2_RUNTIME),
                         "SACCADE_VIRTUAL_DEVICE=" + camera});
   ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
-    return s.source_state.rfind("waiting for device", 0) == 0 && s.frames_processed == 0;
+    return s.source_state.rfind("waiting for device", 0) == 0 && s.frames_processed == 0 &&
+           s.uptime_s >= 10;
   })) << ReadFile(box.Path("err"));
   fs::rename(frames, camera);  // the camera is plugged in
   ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
@@ -476,6 +479,18 @@ TEST(Saccaded, ACameraThatNeverComesEndsTheWaitWithOneLine) {
   EXPECT_EQ(daemon.Wait().code, 1);
   const std::string err = ReadFile(box.Path("err"));
   EXPECT_NE(err.find("openni2://"), std::string::npos) << err;
+  EXPECT_NE(err.find("s for it)"), std::string::npos) << err;
+}
+
+// The same through the real libfreenect: no Kinect on this machine.
+TEST(Saccaded, AKinectThatNeverComesEndsTheWaitWithOneLine) {
+  Sandbox box;
+  Child daemon =
+      Spawn({kSaccaded, "--config", LateCameraConfig(box, 1, "freenect://"), "--lcm-url", box.url},
+            box.Path("out"), box.Path("err"), {});
+  EXPECT_EQ(daemon.Wait().code, 1);
+  const std::string err = ReadFile(box.Path("err"));
+  EXPECT_NE(err.find("freenect://: "), std::string::npos) << err;
   EXPECT_NE(err.find("s for it)"), std::string::npos) << err;
 }
 
