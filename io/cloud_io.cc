@@ -3,6 +3,7 @@
 #include "core/fail.h"
 #include "core/sim/scenario.h"
 #include "io/frame_source.h"
+#include "io/pcd_check.h"
 
 #include <cstdio>
 
@@ -24,12 +25,12 @@ void QuietPcl() { pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS); }
 namespace {
 
 // Reads any PCD encoding into a blob; false with "PATH: reason" when missing, unreadable,
-// corrupt or without x/y/z.
+// corrupt, lying about its size, or without float x/y/z (CheckPcdFile).
 bool ReadBlob(const std::string& path, pcl::PCLPointCloud2* blob, std::string* error) {
   QuietPcl();
-  struct stat st {};
-  if (stat(path.c_str(), &st) != 0) return Fail(error, path + ": no such file");
-  if (S_ISDIR(st.st_mode)) return Fail(error, path + ": is a directory, not a PCD file");
+  // PCL's reader trusts what it reads: nothing reaches it that has not been checked whole.
+  PcdHeader header;
+  if (!CheckPcdFile(path, &header, error)) return false;
   pcl::PCDReader reader;
   int result = -1;
   try {
