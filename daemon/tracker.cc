@@ -30,6 +30,18 @@ std::vector<std::string> NeedRestart(const DaemonSettings& was, const DaemonSett
   return kept;
 }
 
+// Where SWITCH_MODEL may load models from: lcm.model_dirs, or the configured models' folders.
+std::vector<std::string> ModelDirs(const DaemonSettings& s) {
+  if (!s.bus.model_dirs.empty()) return s.bus.model_dirs;
+  std::vector<std::string> dirs;
+  for (const auto& m : s.models) {
+    if (m.find(':') != std::string::npos && m.find('/') > m.find(':')) continue;  // a spec
+    const auto slash = m.rfind('/');
+    dirs.push_back(slash == std::string::npos ? "." : slash == 0 ? "/" : m.substr(0, slash));
+  }
+  return dirs;
+}
+
 }  // namespace
 
 struct Tracker::Impl {
@@ -77,6 +89,8 @@ struct Tracker::Impl {
 
   std::mutex models_mutex;  // serializes model changes (switches and reloads) on the control thread
   std::vector<std::string> model_specs;  // guarded by models_mutex: what the models were made from
+  // Where SWITCH_MODEL may load from: lcm.model_dirs, or the configured models' folders.
+  const std::vector<std::string> model_dirs = ModelDirs(settings);
 
   SerialWorker control;  // model switches and reloads; the last member, so stopped first
 };
@@ -95,11 +109,14 @@ void Tracker::Impl::OnCommand(const Command& c, const CommandReply& reply) {
       run_cv.notify_all();
       break;
     }
-    case Command::Kind::kSwitchModel:
+    case Command::Kind::kSwitchModel: {
+      std::string why;
+      if (!CommandModelAllowed(c.model, model_dirs, &why)) return reply(false, why);
       // Describing a model takes seconds: not on the bus's thread.
       if (!control.Post([this, spec = c.model, reply] { SwitchModel(spec, reply); }))
         reply(false, "the tracker is stopping");
       return;
+    }
   }
   Log(LogLevel::kDebug, "command accepted");
   reply(true, "");

@@ -4,6 +4,7 @@
 #include "io/log.h"
 
 #include <poll.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <lcm/lcm-cpp.hpp>
 #include <saccade/command_t.hpp>
@@ -15,7 +16,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 namespace saccade {
@@ -24,6 +27,114 @@ std::string DetectionsChannel(const std::string& prefix) { return prefix + "_DET
 std::string FixationChannel(const std::string& prefix) { return prefix + "_FIXATION"; }
 std::string StatusChannel(const std::string& prefix) { return prefix + "_STATUS"; }
 std::string CommandChannel(const std::string& prefix) { return prefix + "_COMMAND"; }
+
+bool CommandModelAllowed(const std::string& spec, const std::vector<std::string>& dirs,
+                         std::string* why) {
+  if (spec == "synthetic:target") return true;
+  std::string all;
+  for (const auto& d : dirs) all += (all.empty() ? "" : ", ") + d;
+  const std::string where = " (model folders: " + (all.empty() ? "none" : all) + ")";
+  char* real = realpath(spec.c_str(), nullptr);
+  if (!real) return Fail(why, "SWITCH_MODEL: no such file '" + spec + "'");
+  const std::string path = real;
+  std::free(real);
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
+    return Fail(why, "SWITCH_MODEL: '" + spec + "' is not a regular file");
+  for (const auto& d : dirs) {
+    char* dir = realpath(d.c_str(), nullptr);
+    if (!dir) continue;
+    const std::string prefix = std::string(dir) + (std::string(dir) == "/" ? "" : "/");
+    std::free(dir);
+    if (path.rfind(prefix, 0) == 0) return true;
+  }
+  return Fail(why, "SWITCH_MODEL: '" + spec + "' is not under a model folder" + where);
+}
+
+namespace {
+
+// command_t's layout: the type's 8-byte hash, utime (8), kind (1), fovea (3 x 8), then the
+// model string as a big-endian int32 length (its bytes with the final NUL) and the bytes.
+constexpr std::size_t kCommandFixedBytes = 8 + 8 + 1 + 24;
+constexpr std::int32_t kMaxModelBytes = 4096;
+
+}  // namespace
+
+std::optional<Command> DecodeCommand(const void* data, std::size_t size, const BusOptions& options,
+                                     const Eigen::Isometry3f& robot_from_camera, std::string* why) {
+  const auto* bytes = static_cast<const std::uint8_t*>(data);
+  const std::string malformed = "malformed message (" + std::to_string(size) +
+                                " bytes that do not decode as saccade.command_t";
+  // lcm-gen's decoder trusts the string's length (0 or negative crash it): check the layout
+  // before it runs.
+  if (size < kCommandFixedBytes + 4 + 1) {
+    Fail(why, malformed + ": too short)");
+    return std::nullopt;
+  }
+  std::int32_t model_bytes = 0;
+  for (int i = 0; i < 4; ++i)
+    model_bytes = static_cast<std::int32_t>((static_cast<std::uint32_t>(model_bytes) << 8) |
+                                            bytes[kCommandFixedBytes + i]);
+  if (model_bytes < 1 || model_bytes > kMaxModelBytes ||
+      size != kCommandFixedBytes + 4 + static_cast<std::size_t>(model_bytes) ||
+      bytes[size - 1] != 0) {
+    Fail(why, malformed + ": its model string's length is wrong)");
+    return std::nullopt;
+  }
+  saccade::command_t m;
+  try {
+    if (m.decode(data, 0, static_cast<int>(size)) < 0) {
+      Fail(why, malformed + ")");
+      return std::nullopt;
+    }
+  } catch (const std::exception& e) {
+    Fail(why, malformed + ": " + e.what() + ")");
+    return std::nullopt;
+  }
+  Command c;
+  switch (m.kind) {
+    case saccade::command_t::SET_FOVEA: {
+      const Eigen::Vector3f p(static_cast<float>(m.fovea[0]), static_cast<float>(m.fovea[1]),
+                              static_cast<float>(m.fovea[2]));
+      if (!p.allFinite()) {
+        Fail(why, "SET_FOVEA with a non-finite fovea");
+        return std::nullopt;
+      }
+      c.fovea_m = robot_from_camera.inverse() * p;
+      if (!(c.fovea_m.norm() <= options.max_fovea_distance_m)) {
+        char text[128];
+        std::snprintf(text, sizeof text,
+                      "SET_FOVEA out of range: %.2f m from the camera, more than %.2f m",
+                      c.fovea_m.norm(), options.max_fovea_distance_m);
+        Fail(why, text);
+        return std::nullopt;
+      }
+      c.kind = Command::Kind::kSetFovea;
+      break;
+    }
+    case saccade::command_t::RESET:
+      c.kind = Command::Kind::kReset;
+      break;
+    case saccade::command_t::SWITCH_MODEL:
+      if (m.model.empty()) {
+        Fail(why, "SWITCH_MODEL without a model");
+        return std::nullopt;
+      }
+      c.kind = Command::Kind::kSwitchModel;
+      c.model = m.model;
+      break;
+    case saccade::command_t::PAUSE:
+      c.kind = Command::Kind::kPause;
+      break;
+    case saccade::command_t::RESUME:
+      c.kind = Command::Kind::kResume;
+      break;
+    default:
+      Fail(why, "unknown kind " + std::to_string(m.kind));
+      return std::nullopt;
+  }
+  return c;
+}
 
 namespace {
 
@@ -179,52 +290,36 @@ class LcmBus : public Bus {
     }
   }
 
+  // Counts a rejected command and logs why, at most kRejectLinesPerSecond lines a second (the
+  // next line logged says how many went unsaid): a flood of bad commands must not flood the
+  // log. From any thread.
   void Reject(const std::string& why) {
     ++rejected_;
-    Log(LogLevel::kWarning,
-        "command rejected on " + CommandChannel(options_.channel_prefix) + ": " + why);
+    std::lock_guard<std::mutex> lock(reject_mutex_);
+    const auto now = std::chrono::steady_clock::now();
+    if (now - reject_window_ >= std::chrono::seconds(1)) {
+      reject_window_ = now;
+      reject_lines_ = 0;
+    }
+    if (reject_lines_ >= kRejectLinesPerSecond) {
+      ++unlogged_rejections_;
+      return;
+    }
+    ++reject_lines_;
+    std::string line =
+        "command rejected on " + CommandChannel(options_.channel_prefix) + ": " + why;
+    if (unlogged_rejections_ > 0)
+      line += " (" + std::to_string(unlogged_rejections_) + " more rejected before it, unlogged)";
+    unlogged_rejections_ = 0;
+    Log(LogLevel::kWarning, line);
   }
 
   void OnCommand(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
-    saccade::command_t m;
-    if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0)
-      return Reject("malformed message (" + std::to_string(rbuf->data_size) +
-                    " bytes that do not decode as saccade.command_t)");
-    Command c;
-    switch (m.kind) {
-      case saccade::command_t::SET_FOVEA: {
-        const Eigen::Vector3f p(static_cast<float>(m.fovea[0]), static_cast<float>(m.fovea[1]),
-                                static_cast<float>(m.fovea[2]));
-        if (!p.allFinite()) return Reject("SET_FOVEA with a non-finite fovea");
-        c.fovea_m = X_RC_.inverse() * p;
-        if (c.fovea_m.norm() > options_.max_fovea_distance_m) {
-          char why[128];
-          std::snprintf(why, sizeof why,
-                        "SET_FOVEA out of range: %.2f m from the camera, more than %.2f m",
-                        c.fovea_m.norm(), options_.max_fovea_distance_m);
-          return Reject(why);
-        }
-        c.kind = Command::Kind::kSetFovea;
-        break;
-      }
-      case saccade::command_t::RESET:
-        c.kind = Command::Kind::kReset;
-        break;
-      case saccade::command_t::SWITCH_MODEL:
-        if (m.model.empty()) return Reject("SWITCH_MODEL without a model");
-        c.kind = Command::Kind::kSwitchModel;
-        c.model = m.model;
-        break;
-      case saccade::command_t::PAUSE:
-        c.kind = Command::Kind::kPause;
-        break;
-      case saccade::command_t::RESUME:
-        c.kind = Command::Kind::kResume;
-        break;
-      default:
-        return Reject("unknown kind " + std::to_string(m.kind));
-    }
-    on_command_(c, [this](bool accepted, const std::string& why) {
+    std::string why;
+    const std::optional<Command> c =
+        DecodeCommand(rbuf->data, rbuf->data_size, options_, X_RC_, &why);
+    if (!c) return Reject(why);
+    on_command_(*c, [this](bool accepted, const std::string& why) {
       if (accepted)
         ++accepted_;
       else
@@ -241,6 +336,11 @@ class LcmBus : public Bus {
   CommandHandler on_command_;
   std::atomic<std::int64_t> accepted_{0};
   std::atomic<std::int64_t> rejected_{0};
+  static constexpr int kRejectLinesPerSecond = 5;
+  std::mutex reject_mutex_;
+  std::chrono::steady_clock::time_point reject_window_{};
+  int reject_lines_ = 0;
+  std::int64_t unlogged_rejections_ = 0;
   std::atomic<bool> stop_{false};
   int wake_[2] = {-1, -1};
   std::thread receiver_;

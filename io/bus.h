@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,9 @@ struct BusOptions {
   bool commands = true;                    // subscribe to PREFIX_COMMAND
   /// A SET_FOVEA farther than this from the camera is out of range, metres.
   float max_fovea_distance_m = 10.0f;
+  /// SWITCH_MODEL loads only regular files under these folders (or synthetic:target); empty:
+  /// the folders of the configured models.
+  std::vector<std::string> model_dirs;
   RobotFrameOptions robot;
 
   bool IsValid(std::string* error) const;
@@ -91,8 +95,22 @@ struct BusOptions {
     a->Visit("channel_prefix", &channel_prefix);
     a->Visit("commands", &commands);
     a->Visit("max_fovea_distance_m", &max_fovea_distance_m);
+    a->Visit("model_dirs", &model_dirs);
   }
 };
+
+/// A saccade.command_t message's bytes as a Command, checked whole: its layout (the model
+/// string's length before anything is allocated, at most 4096 bytes), its kind and its values
+/// (a finite fovea within options.max_fovea_distance_m of the camera, after taking it from the
+/// published frame through `robot_from_camera`). nullopt with why not, in one line.
+std::optional<Command> DecodeCommand(const void* data, std::size_t size, const BusOptions& options,
+                                     const Eigen::Isometry3f& robot_from_camera, std::string* why);
+
+/// Whether a SWITCH_MODEL may load `spec`: synthetic:target, or a regular file (no pipe, device
+/// or /proc entry) whose real path (links and ".." resolved) lies under one of `dirs`. False
+/// with one line saying why not.
+bool CommandModelAllowed(const std::string& spec, const std::vector<std::string>& dirs,
+                         std::string* why);
 
 /// The handler's verdict on a command, called once, from any thread, when it is known: a
 /// command may be accepted at once (SET_FOVEA) or after work done elsewhere (SWITCH_MODEL is

@@ -9,6 +9,7 @@
 #include <spawn.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -427,6 +428,60 @@ TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
       [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::FULL_SCAN; }));
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
+}
+
+// Commands built to hurt: models that are devices, pipes, /proc entries or folders, lying
+// string lengths (0, negative, INT32_MIN, past the end), and a flood. Each is rejected and
+// counted, the log stays short (the first five a second are said), and the daemon still
+// tracks and stops on SIGTERM.
+TEST(Saccaded, HostileCommandsAreRejectedCountedAndSurvived) {
+  Sandbox box;
+  StatusWatch watch(box.url);
+  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                        "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"));
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
+  int sent = 0;
+  const std::string fifo = box.Path("model.fifo");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& model : {std::string("/dev/zero"), std::string("/proc/self/mem"), fifo,
+                                   box.Path(""), std::string("/etc/passwd")}) {
+    saccade::command_t m;
+    m.kind = saccade::command_t::SWITCH_MODEL;
+    m.model = model;
+    watch.lcm().publish("SACCADE_COMMAND", &m);
+    ++sent;
+  }
+  saccade::command_t valid;
+  valid.kind = saccade::command_t::SWITCH_MODEL;
+  valid.model = "x";
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(valid.getEncodedSize()));
+  valid.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  for (const std::uint32_t length : {0u, 0xffffffffu, 0x80000000u, 3u, 1000000u}) {
+    std::vector<std::uint8_t> lie = bytes;
+    for (int i = 0; i < 4; ++i) lie[41 + i] = static_cast<std::uint8_t>(length >> (24 - 8 * i));
+    watch.lcm().publish("SACCADE_COMMAND", lie.data(), static_cast<unsigned>(lie.size()));
+    ++sent;
+  }
+  const char flood[] = "garbage";
+  for (int i = 0; i < 50; ++i, ++sent) watch.lcm().publish("SACCADE_COMMAND", flood, sizeof flood);
+  EXPECT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
+    return s.commands_rejected == sent && s.commands_accepted == 0;
+  })) << ReadFile(box.Path("err"));
+  const std::int64_t before = [&] {
+    std::int64_t n = 0;
+    watch.WaitFor([&](const saccade::status_t& s) { return (n = s.frames_processed) > 0; });
+    return n;
+  }();
+  EXPECT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
+    return s.frames_processed > before + 10;  // still tracking
+  }));
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0);
+  const std::string err = ReadFile(box.Path("err"));
+  EXPECT_NE(err.find("'/dev/zero' is not a regular file"), std::string::npos) << err;
+  EXPECT_NE(err.find("'/etc/passwd' is not under a model folder"), std::string::npos) << err;
+  EXPECT_LT(std::count(err.begin(), err.end(), '\n'), 60) << "the flood flooded the log";
 }
 
 // demo.yaml with the source a camera (`spec`) waited for `wait_s` at start.
