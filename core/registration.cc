@@ -65,7 +65,9 @@ std::vector<std::uint16_t> RegisterDepth(const std::uint16_t* depth_mm,
       const double x = to.fx * q.x() * inverse_z + to.cx, y = to.fy * q.y() * inverse_z + to.cy;
       if (!(std::abs(x) < 1e6 && std::abs(y) < 1e6)) continue;  // far outside (grazing)
       // A twentieth of a pixel more, so that neighbours' footprints overlap despite rounding.
-      const double su = half_u * z * inverse_z + 0.05, sv = half_v * z * inverse_z + 0.05;
+      // (At most 8 pixels: a footprint wider than that is a grazing surface, not a pixel.)
+      const double su = std::min(half_u * z * inverse_z + 0.05, 8.0);
+      const double sv = std::min(half_v * z * inverse_z + 0.05, 8.0);
       // The target pixels whose centres lie within the footprint; at least the nearest one.
       int u0 = -Floor(su - x), u1 = Floor(x + su);
       int v0 = -Floor(sv - y), v1 = Floor(y + sv);

@@ -2,6 +2,8 @@
 
 #include "core/fail.h"
 
+#include <libfreenect.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -45,7 +47,13 @@ bool CheckFakenectDump(const std::string& dir, int* depth_frames, std::string* e
     const auto size = fs::file_size(file, ec);
     if (ec || !fs::is_regular_file(file))
       return Fail(error, file.string() + ": listed in INDEX.txt but cannot be read");
-    if (type == 'a') continue;
+    if (type == 'a') {  // fakenect reads it whole; an empty one ends its replay there
+      if (size != sizeof(freenect_raw_tilt_state))
+        return Fail(error, file.string() + ": not a fakenect accelerometer record (" +
+                               std::to_string(size) + " bytes, expected " +
+                               std::to_string(sizeof(freenect_raw_tilt_state)) + ")");
+      continue;
+    }
     const std::string header = HeaderOf(type);
     std::ifstream in(file, std::ios::binary);
     std::string first;
@@ -108,6 +116,11 @@ bool FakenectWriter::Write(const Frame& frame, std::string* error) {
   for (std::size_t i = 0; i < raw.size(); ++i) raw[i] = MmToKinectDisparity(ir_view[i]);
 
   const std::int64_t utime = frame.capture_utime;
+  // File names are the times: a frame at or before the last one would overwrite or reorder.
+  if (written_ > 0 && utime <= last_utime_)
+    return Fail(error, dir_ + ": frame " + std::to_string(frame.sequence) + " is captured at " +
+                           std::to_string(utime) + " us, not after the frame before it (" +
+                           std::to_string(last_utime_) + " us); a dump's times must increase");
   const double seconds = 1000.0 + utime * 1e-6;  // any epoch: replay follows the differences
   const auto ticks = static_cast<std::uint32_t>(
       static_cast<std::uint64_t>(std::llround(utime * (kKinectClockHz / 1e6))) & 0xffffffffu);
@@ -129,6 +142,8 @@ bool FakenectWriter::Write(const Frame& frame, std::string* error) {
   if (!write('d', raw.data(), kDepthBytes) || !write('r', rgb.data(), kColourBytes)) return false;
   index_.flush();
   if (!index_) return Fail(error, dir_ + "/INDEX.txt: cannot write");
+  ++written_;
+  last_utime_ = utime;
   return true;
 }
 

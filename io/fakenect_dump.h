@@ -3,8 +3,9 @@
 // files in time order, one a line: d-SECONDS-TIMESTAMP.pgm (depth: a one-line "P5 640 480
 // 65535" header, then 640 x 480 raw 11-bit disparities as host-order uint16, 2047 for no
 // return), r-SECONDS-TIMESTAMP.ppm (colour: "P6 640 480 255", then 640 x 480 RGB) and
-// a-SECONDS-TIMESTAMP.dump (the accelerometer). SECONDS is the host's clock when recorded, which
-// paces the replay; TIMESTAMP is the Kinect's 60 MHz frame clock (32 bits, wrapping).
+// a-SECONDS-TIMESTAMP.dump (the accelerometer: a freenect_raw_tilt_state). SECONDS is the host's
+// clock when recorded, which paces the replay; TIMESTAMP is the Kinect's 60 MHz frame clock (32
+// bits, wrapping).
 //
 // fakenect replays what a Kinect sends in its raw modes only (FREENECT_DEPTH_11BIT and
 // FREENECT_VIDEO_RGB at 640x480), and exits the process on a file it cannot open, so a dump is
@@ -39,7 +40,8 @@ class FakenectWriter {
   static std::unique_ptr<FakenectWriter> Open(const std::string& dir,
                                               const ColourCalibration& calibration,
                                               std::string* error);
-  /// False with one line naming the file when it cannot be written.
+  /// False with one line naming the file when it cannot be written, or when the frame is not
+  /// captured after the one before it (the times name the files).
   bool Write(const Frame& frame, std::string* error);
 
  private:
@@ -47,6 +49,8 @@ class FakenectWriter {
   std::string dir_;
   ColourCalibration calibration_;
   std::ofstream index_;
+  std::size_t written_ = 0;
+  std::int64_t last_utime_ = 0;
 };
 
 }  // namespace saccade

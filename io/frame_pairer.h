@@ -10,10 +10,10 @@
 namespace saccade {
 
 /// A depth frame takes the colour frame nearest in time within `tolerance` (in the streams'
-/// time unit). It waits for that colour frame while at most `kMaxWaiting` depth frames wait,
-/// and no longer once the colour stream has passed its time. Depth frames are delivered in
-/// their order, each with its colour frame or none (counted as unpaired). Not thread-safe: a
-/// source calls it under its own lock.
+/// time unit) among those already come. It waits for that colour frame while at most `kMaxWaiting`
+/// depth frames wait, and no longer once the colour stream has passed its time. Depth frames are
+/// delivered in their order, each with its colour frame or none (counted as unpaired). Not
+/// thread-safe: a source calls it under its own lock.
 template <typename Depth, typename Colour>
 class FramePairer {
  public:

@@ -293,6 +293,13 @@ class CaptureFrames : public Sequence {
   LoadedCapture capture_;
 };
 
+// The spec as the user wrote it, without its options.
+std::string SpecText(const SourceSpec& spec) {
+  if (spec.kind == "openni2" || spec.kind == "freenect") return spec.kind + "://" + spec.target;
+  if (spec.kind == "oni") return spec.target;
+  return spec.kind + ":" + spec.target;
+}
+
 // Typed option readers: false with an error naming the spec and the option.
 bool OptionNumber(const SourceSpec& spec, const std::string& key, double fallback, double* out,
                   std::string* error) {
@@ -304,8 +311,8 @@ bool OptionNumber(const SourceSpec& spec, const std::string& key, double fallbac
   char* end = nullptr;
   *out = std::strtod(it->second.c_str(), &end);
   if (it->second.empty() || *end != '\0' || !std::isfinite(*out) || *out < 0)
-    return Fail(error, "source '" + spec.kind + ":" + spec.target + "': option " + key + "=" +
-                           it->second + " is not a number >= 0");
+    return Fail(error, "source '" + SpecText(spec) + "': option " + key + "=" + it->second +
+                           " is not a number >= 0");
   return true;
 }
 
@@ -317,8 +324,8 @@ bool OptionBool(const SourceSpec& spec, const std::string& key, bool* out, std::
   } else if (it->second == "0" || it->second == "false") {
     *out = false;
   } else {
-    return Fail(error, "source '" + spec.kind + ":" + spec.target + "': option " + key + "=" +
-                           it->second + " is not 0/1/true/false");
+    return Fail(error, "source '" + SpecText(spec) + "': option " + key + "=" + it->second +
+                           " is not 0/1/true/false");
   }
   return true;
 }
@@ -327,8 +334,7 @@ bool OnlyOptions(const SourceSpec& spec, std::initializer_list<const char*> allo
                  std::string* error) {
   for (const auto& [key, value] : spec.options) {
     if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
-      return Fail(error,
-                  "source '" + spec.kind + ":" + spec.target + "': unknown option '" + key + "'");
+      return Fail(error, "source '" + SpecText(spec) + "': unknown option '" + key + "'");
   }
   return true;
 }

@@ -20,7 +20,7 @@ struct SourceStats {
   std::uint64_t produced = 0;  // frames the source made
   std::uint64_t dropped = 0;   // live frames overwritten before the consumer took them
   std::uint64_t reconnects = 0;
-  std::uint64_t unpaired = 0;  // depth frames that found no colour frame in time (OpenNI2)
+  std::uint64_t unpaired = 0;  // depth frames that found no colour frame in time (cameras)
   std::string state;           // "streaming", "ended", "reconnecting: why", ...
 };
 

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstdlib>
+#include <cstring>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -65,8 +66,8 @@ class FreenectSource : public FrameSource {
     if (freenect_init(&context_, nullptr) < 0) {
       context_ = nullptr;
       return Fail(error, Spec() +
-                             ": libfreenect cannot start (is libusb able to open the USB "
-                             "devices? run as a member of the plugdev group)");
+                             ": libfreenect cannot start (can libusb open the USB devices? "
+                             "docs/SOURCES.md says which udev rules and groups)");
     }
     freenect_set_log_level(context_, FREENECT_LOG_FATAL);  // its errors come back as ours
     freenect_select_subdevices(context_, FREENECT_DEVICE_CAMERA);
@@ -94,7 +95,10 @@ class FreenectSource : public FrameSource {
   }
 
   void Stop() override {
-    stopped_ = true;
+    {
+      std::lock_guard<std::mutex> lock(wake_mutex_);  // not between the worker's check and wait
+      stopped_ = true;
+    }
     mailbox_.CloseAndClear();
     wake_.notify_all();
   }
@@ -178,6 +182,17 @@ class FreenectSource : public FrameSource {
     }
     if (rc < 0) {
       device_ = nullptr;
+      if (!by_index && replay_dir_.empty()) {  // (fakenect has no device list)
+        std::string serials;
+        freenect_device_attributes* list = nullptr;
+        if (freenect_list_device_attributes(context_, &list) >= 0) {
+          for (auto* a = list; a; a = a->next)
+            serials += (serials.empty() ? "" : ", ") + std::string(a->camera_serial);
+          freenect_free_device_attributes(list);
+        }
+        return Fail(why, Spec() + ": no Kinect with that serial number, or it is in use (found: " +
+                             (serials.empty() ? "none" : serials) + ")");
+      }
       return Fail(why, Spec() + ": cannot open the Kinect (libfreenect error " +
                            std::to_string(rc) + "; is another program using it?)");
     }
@@ -201,6 +216,7 @@ class FreenectSource : public FrameSource {
       return Fail(why, Spec() + ": cannot start the Kinect's depth and colour streams");
     }
     pairer_.Clear();
+    clock_started_ = false;  // a replugged Kinect's clock starts anew
     last_frame_ = Clock::now();
     return true;
   }
@@ -252,7 +268,8 @@ class FreenectSource : public FrameSource {
         mailbox_.Close();
         return;
       }
-      if (rc < 0 || Clock::now() - last_frame_ > std::chrono::seconds(2)) {
+      // A replay waits for its reader (Deliver) and keeps the dump's own gaps: no stall there.
+      if (rc < 0 || (replay_dir_.empty() && Clock::now() - last_frame_ > std::chrono::seconds(2))) {
         Disconnect();
         SetState(rc < 0 ? "reconnecting: libfreenect error " + std::to_string(rc)
                         : "reconnecting: no frame for 2 s");
@@ -289,8 +306,9 @@ class FreenectSource : public FrameSource {
   void Depth(void* data, std::uint32_t timestamp) {
     last_frame_ = Clock::now();
     Image image;
-    const auto* pixels = static_cast<const std::uint16_t*>(data);
-    image.depth.assign(pixels, pixels + kKinectWidth * kKinectHeight);
+    // fakenect hands over its file's bytes after the header: not always 2-byte aligned.
+    image.depth.resize(kKinectWidth * kKinectHeight);
+    std::memcpy(image.depth.data(), data, image.depth.size() * sizeof(std::uint16_t));
     image.ticks = Unwrap(timestamp);
     const std::int64_t ticks = image.ticks;
     pairer_.AddDepth(std::move(image), ticks);
@@ -339,7 +357,7 @@ class FreenectSource : public FrameSource {
   int replay_frames_ = 0;
   freenect_context* context_ = nullptr;
   freenect_device* device_ = nullptr;
-  bool registered_ = false;  // the device registers depth to colour (millimetres)
+  std::atomic<bool> registered_{false};  // the device registers depth to colour (millimetres)
   // The worker's own state: pairing (half a frame period) and the unwrapped clock.
   FramePairer<Image, Image> pairer_{
       kPairingTolerance,

@@ -27,8 +27,9 @@ struct FreenectOptions {
 /// and reopened with back-off (0.5 s doubling to 8 s); a device not there at start is waited for up
 /// to `wait_at_start_s`, as OpenOpenNI2Device does.
 ///
-/// Under fakenect (FAKENECT_PATH set) the dump is checked whole first (CheckFakenectDump),
-/// and its end ends the source.
+/// Under fakenect (FAKENECT_PATH set) the dump is checked whole first (CheckFakenectDump), it
+/// is played for a reader that takes every frame (none dropped, no stall reconnect), and its
+/// end ends the source.
 std::unique_ptr<FrameSource> OpenFreenectDevice(const std::string& device,
                                                 const FreenectOptions& options,
                                                 double wait_at_start_s, std::string* error);

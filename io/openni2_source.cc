@@ -62,10 +62,15 @@ CameraIntrinsics IntrinsicsOf(openni::VideoStream& stream) {
   return k;
 }
 
-// A stream's pixels packed row after row (repacked when the stream pads its rows).
+// A stream's pixels packed row after row (repacked when the stream pads its rows); nullptr
+// when the frame's stride or data size cannot hold its rows (a corrupt recording).
 template <typename T>
 const T* Packed(const openni::VideoFrameRef& ref, int channels, std::vector<T>* repacked) {
   const int row_bytes = ref.getWidth() * channels * static_cast<int>(sizeof(T));
+  if (ref.getWidth() <= 0 || ref.getHeight() <= 0 || ref.getStrideInBytes() < row_bytes ||
+      static_cast<std::int64_t>(ref.getDataSize()) <
+          static_cast<std::int64_t>(ref.getStrideInBytes()) * (ref.getHeight() - 1) + row_bytes)
+    return nullptr;
   if (ref.getStrideInBytes() == row_bytes) return static_cast<const T*>(ref.getData());
   repacked->resize(static_cast<std::size_t>(ref.getWidth()) * ref.getHeight() * channels);
   const auto* bytes = static_cast<const std::uint8_t*>(ref.getData());
@@ -93,6 +98,7 @@ bool ToFrame(const openni::VideoFrameRef& ref, const openni::VideoFrameRef* colo
     return Fail(error, "OpenNI2 stream: frame size differs from the stream's video mode");
   std::vector<std::uint16_t> repacked;
   const std::uint16_t* data = Packed(ref, 1, &repacked);
+  if (!data) return Fail(error, "OpenNI2 stream: a depth frame shorter than its rows");
   if (format == openni::PIXEL_FORMAT_DEPTH_100_UM) {
     if (repacked.empty())
       repacked.assign(data, data + static_cast<std::size_t>(k.width) * k.height);
@@ -111,6 +117,7 @@ bool ToFrame(const openni::VideoFrameRef& ref, const openni::VideoFrameRef* colo
                              std::to_string(out_k.width) + "x" + std::to_string(out_k.height) +
                              " was set up");
     rgb = Packed(*colour, 3, &rgb_repacked);
+    if (!rgb) return Fail(error, "OpenNI2 colour stream: a frame shorter than its rows");
   }
   frame->intrinsics = out_k;
   if (c.register_colour) {
@@ -201,7 +208,10 @@ class StreamSource : public OpenNI2Source {
   }
 
   void Stop() override {
-    stopped_ = true;
+    {
+      std::lock_guard<std::mutex> lock(wake_mutex_);  // not between a waiter's check and wait
+      stopped_ = true;
+    }
     mailbox_.CloseAndClear();
     wake_.notify_all();
   }
@@ -260,10 +270,20 @@ class StreamSource : public OpenNI2Source {
     if (colour) {
       const bool offered = live && device_.isImageRegistrationModeSupported(
                                        openni::IMAGE_REGISTRATION_DEPTH_TO_COLOR);
-      if (registration == Registration::kAuto)
-        registration = !live     ? Registration::kNone
-                       : offered ? Registration::kDevice
-                                 : Registration::kSaccade;
+      const bool calibrated = !colour_options_.calibration.empty();
+      if (registration == Registration::kAuto)  // a calibration given asks for Saccade's
+        registration = calibrated ? Registration::kSaccade
+                       : !live    ? Registration::kNone
+                       : offered  ? Registration::kDevice
+                                  : Registration::kSaccade;
+      if (calibrated && registration != Registration::kSaccade)
+        return Fail(error, uri +
+                               ": calibration= is for Saccade's registration "
+                               "(registration=saccade or auto)");
+      if (registration == Registration::kDevice && !live)
+        return Fail(error, uri +
+                               ": a recording cannot register on a device: its frames are "
+                               "as recorded (registration=none, or saccade with calibration=)");
       if (registration == Registration::kDevice && !offered)
         return Fail(error, uri +
                                ": the device offers no depth-to-colour registration "
@@ -277,6 +297,8 @@ class StreamSource : public OpenNI2Source {
     }
     if (depth_.create(device_, openni::SENSOR_DEPTH) != openni::STATUS_OK)
       return Fail(error, uri + ": no depth stream: " + LastOpenNIError());
+    // A mirrored image (a driver's .ini can set it) would flip the baseline's side.
+    if (live) depth_.setMirroringEnabled(false);
     conversion_ = Conversion{};
     conversion_.depth = IntrinsicsOf(depth_);
     const openni::VideoMode depth_mode = depth_.getVideoMode();
@@ -290,6 +312,7 @@ class StreamSource : public OpenNI2Source {
       return Fail(error, uri + ": cannot open the colour stream: " + LastOpenNIError());
     if (live && !ChooseRgbMode(depth_mode))
       return Fail(error, uri + ": the colour stream has no RGB888 mode");
+    if (live) colour_.setMirroringEnabled(false);
     const openni::VideoMode colour_mode = colour_.getVideoMode();
     if (colour_mode.getPixelFormat() != openni::PIXEL_FORMAT_RGB888)
       return Fail(error, uri + ": the colour stream is not RGB888 (format " +
@@ -380,6 +403,15 @@ class StreamSource : public OpenNI2Source {
     if (!depth) {
       pairer_.AddColour(ref, static_cast<std::int64_t>(ref.getTimestamp()));
     } else {
+      if (last_index_ > 0 && ref.getFrameIndex() < last_index_) {  // a recording starts over
+        if (stop_at_wrap_) {
+          wrapped_ = true;  // not this playback's: it ends here
+          Emit(&lock, sink);
+          return true;
+        }
+        pairer_.Flush();  // the last pass's frames go out; its colours pair with no new frame
+        pairer_.Clear();
+      }
       // Frames libOpenNI2 skipped before reaching us count as dropped too.
       if (last_index_ > 0 && ref.getFrameIndex() > last_index_ + 1)
         skipped_ += static_cast<std::uint64_t>(ref.getFrameIndex() - last_index_ - 1);
@@ -430,31 +462,40 @@ class StreamSource : public OpenNI2Source {
   LatestMailbox<Item> mailbox_;
   std::atomic<bool> stopped_{false};
   std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, skipped_{0};
-  int last_index_ = 0;  // OpenNI2's own frame index of the last depth frame read
+  int last_index_ = 0;                // OpenNI2's own frame index of the last depth frame read
+  bool stop_at_wrap_ = false;         // a playback that does not loop: set before streaming
+  std::atomic<bool> wrapped_{false};  // such a playback met the recording's start again
   mutable std::mutex mutex_;
+  std::mutex wake_mutex_;  // with wake_: the device watchdog's sleeps, which Stop() ends
   std::condition_variable wake_;
   std::string state_ = "streaming";
 
  private:
-  // A colour mode for a live device: RGB888 at the depth's size when offered, else the
-  // largest RGB888 mode. False when there is none.
+  // A colour mode for a live device: RGB888 at the depth's size and rate when offered, else at
+  // its size, else the largest. False when there is no RGB888 mode.
   bool ChooseRgbMode(const openni::VideoMode& depth) {
-    const openni::SensorInfo& info = colour_.getSensorInfo();
-    const auto& modes = info.getSupportedVideoModes();
+    const auto& modes = colour_.getSensorInfo().getSupportedVideoModes();
+    const auto score = [&](const openni::VideoMode& m) {
+      const bool size = m.getResolutionX() == depth.getResolutionX() &&
+                        m.getResolutionY() == depth.getResolutionY();
+      return (size ? 4 : 0) + (size && m.getFps() == depth.getFps() ? 2 : 0);
+    };
     int best = -1;
     for (int i = 0; i < modes.getSize(); ++i) {
       if (modes[i].getPixelFormat() != openni::PIXEL_FORMAT_RGB888) continue;
-      const bool same = modes[i].getResolutionX() == depth.getResolutionX() &&
-                        modes[i].getResolutionY() == depth.getResolutionY();
-      if (best < 0 || same || modes[i].getResolutionX() > modes[best].getResolutionX()) best = i;
-      if (same) break;
+      if (best < 0 || score(modes[i]) > score(modes[best]) ||
+          (score(modes[i]) == score(modes[best]) &&
+           modes[i].getResolutionX() > modes[best].getResolutionX()))
+        best = i;
     }
     if (best < 0) return false;
-    return colour_.getVideoMode().getPixelFormat() == openni::PIXEL_FORMAT_RGB888 &&
-                   colour_.getVideoMode().getResolutionX() == modes[best].getResolutionX() &&
-                   colour_.getVideoMode().getResolutionY() == modes[best].getResolutionY()
-               ? true
-               : colour_.setVideoMode(modes[best]) == openni::STATUS_OK;
+    const openni::VideoMode now = colour_.getVideoMode();
+    if (now.getPixelFormat() == openni::PIXEL_FORMAT_RGB888 &&
+        now.getResolutionX() == modes[best].getResolutionX() &&
+        now.getResolutionY() == modes[best].getResolutionY() &&
+        now.getFps() == modes[best].getFps())
+      return true;
+    return colour_.setVideoMode(modes[best]) == openni::STATUS_OK;
   }
 
   void ResetPairing() {
@@ -475,7 +516,8 @@ class StreamSource : public OpenNI2Source {
   void Emit(std::unique_lock<std::mutex>* lock, const Sink& sink) {
     std::vector<Paired> paired;
     paired.swap(delivered_);
-    if (paired.empty()) return;
+    // Even with nothing to emit: the caller then knows that what another thread paired before
+    // it has been handed on (the end of a playback closes the mailbox after this).
     std::lock_guard<std::mutex> emitting(emit_mutex_);
     lock->unlock();
     for (const Paired& p : paired) {
@@ -554,20 +596,25 @@ class DeviceSource : public StreamSource {
   // start waits for one that is not there yet: back-off 0.5 s doubling to 8 s.
   void Watch(bool waiting) {
     const auto stall = std::chrono::seconds(2);
-    std::unique_lock<std::mutex> lock(watch_mutex_);
+    std::unique_lock<std::mutex> lock(wake_mutex_);
     while (!stopped_) {
       if (!waiting) {
-        wake_.wait_for(lock, std::chrono::milliseconds(250));
+        wake_.wait_for(lock, std::chrono::milliseconds(250), [this] { return stopped_.load(); });
         if (stopped_) break;
         const Clock::time_point last{Clock::duration(last_frame_.load())};
         if (Clock::now() - last < stall) continue;
         SetState("reconnecting: no frame for 2 s");
+        lock.unlock();  // Stop() takes the lock only to say so; it must not wait for this
         CloseStream();
+        lock.lock();
       }
       auto backoff = std::chrono::milliseconds(500);
       while (!stopped_) {
         std::string why;
-        if (Connect(&why)) {
+        lock.unlock();
+        const bool connected = Connect(&why);
+        lock.lock();
+        if (connected) {
           if (!waiting) ++reconnects_;
           last_frame_ = Clock::now().time_since_epoch().count();
           SetState("streaming");
@@ -584,7 +631,7 @@ class DeviceSource : public StreamSource {
           return;
         }
         SetState((waiting ? "waiting for device: " : "reconnecting: ") + why);
-        wake_.wait_for(lock, backoff);
+        wake_.wait_for(lock, backoff, [this] { return stopped_.load(); });
         backoff = std::min(backoff * 2, std::chrono::milliseconds(8000));
       }
       waiting = false;
@@ -596,7 +643,6 @@ class DeviceSource : public StreamSource {
   const Clock::time_point started_ = Clock::now();
   Clock::time_point waiting_until_;
   std::atomic<Clock::rep> last_frame_{0};
-  std::mutex watch_mutex_;
   std::thread watchdog_;
 };
 
@@ -606,6 +652,7 @@ class PlaybackSource : public StreamSource {
   bool Open(const std::string& path, const OniPlaybackOptions& options, std::string* error) {
     path_ = path;
     options_ = options;
+    stop_at_wrap_ = !options.loop;
     if (!OpenStream(path, false, error)) return false;
     openni::PlaybackControl* control = device_.getPlaybackControl();
     if (!control) return Fail(error, path + ": not a recording");
@@ -696,17 +743,12 @@ class PlaybackSource : public StreamSource {
 
   void OnFrame(bool depth) override {
     if (stopped_ || ended_) return;
-    const int previous = last_index_;
     // The player repeats (see Open): a non-looping playback ends at the last frame, or at the
-    // wrap when libOpenNI2 skipped the last frame in fast mode.
+    // wrap when libOpenNI2 skipped the last frame in fast mode (ReadAndPair sees it and keeps
+    // the next pass's first frame out).
     const auto put = [this](Item item) { mailbox_.Put(std::move(item)); };
-    bool wrapped = false;
-    ReadAndPair(depth, [&](Item item) {
-      wrapped = depth && last_index_ < previous;
-      if (!(wrapped && !options_.loop)) put(std::move(item));
-    });
-    wrapped = depth && last_index_ < previous;
-    if (depth && !options_.loop && (wrapped || last_index_ >= frames_)) {
+    ReadAndPair(depth, put);
+    if (depth && !options_.loop && (wrapped_ || last_index_ >= frames_)) {
       ended_ = true;
       FlushPending(put);
       SetState("ended");

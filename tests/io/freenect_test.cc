@@ -121,10 +121,35 @@ TEST_F(FreenectTest, ACorruptDumpIsAOneLineErrorNamingTheFile) {
       << error;
 }
 
+TEST_F(FreenectTest, AnEmptyAccelerometerRecordIsRefusedNotTakenAsTheEnd) {
+  std::ofstream(dir_ + "/a-1000.000000-0.dump");
+  std::ofstream(dir_ + "/INDEX.txt", std::ios::app) << "a-1000.000000-0.dump\n";
+  std::string error;
+  EXPECT_FALSE(Replay(dir_, &error));
+  EXPECT_NE(error.find("a-1000.000000-0.dump: not a fakenect accelerometer record (0 bytes"),
+            std::string::npos)
+      << error;
+}
+
+TEST(FakenectWriter, FramesMustComeLaterAndLater) {
+  const std::string dir =
+      ::testing::TempDir() + "saccade_fakenect_times_" + std::to_string(getpid());
+  std::string error;
+  auto writer = FakenectWriter::Open(dir, NominalKinectCalibration(), &error);
+  ASSERT_TRUE(writer) << error;
+  auto source = OpenSource("synthetic:static?rate=0&frames=1", &error);
+  ASSERT_TRUE(source) << error;
+  Frame f;
+  ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
+  ASSERT_TRUE(writer->Write(f, &error)) << error;
+  EXPECT_FALSE(writer->Write(f, &error));  // the same time again would overwrite its files
+  EXPECT_NE(error.find("a dump's times must increase"), std::string::npos) << error;
+}
+
 TEST(FreenectOptions, UnknownOptionsAndBadCalibrationAreOneLineErrors) {
   std::string error;
   EXPECT_FALSE(OpenSource("freenect://?colour=1", &error));
-  EXPECT_EQ(error, "source 'freenect:': unknown option 'colour'");
+  EXPECT_EQ(error, "source 'freenect://': unknown option 'colour'");
   EXPECT_FALSE(OpenSource("freenect://?calibration=/no/such/file.yaml", &error));
   EXPECT_EQ(error, "/no/such/file.yaml: cannot open colour camera file");
 }
