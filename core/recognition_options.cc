@@ -12,8 +12,26 @@ bool PositiveFinite(float v) { return std::isfinite(v) && v > 0; }
 }  // namespace
 
 bool RecognitionOptions::IsValid(std::string* error) const {
-  if (scene_normal_neighbors < 3) return Fail(error, "scene_normal_neighbors must be >= 3");
-  if (model_normal_neighbors < 3) return Fail(error, "model_normal_neighbors must be >= 3");
+  // Whole-number options within ranges that no arithmetic on them overflows (a half window of
+  // 2^31 - 1 pixels once divided by zero).
+  const struct {
+    const char* name;
+    int value, lo, hi;
+  } counts[] = {
+      {"scene_normal_neighbors", scene_normal_neighbors, 3, 1000},
+      {"model_normal_neighbors", model_normal_neighbors, 3, 1000},
+      {"max_scene_keypoints", max_scene_keypoints, 0, 10'000'000},
+      {"hough_threshold", hough_threshold, 1, 1'000'000},
+      {"match_branching", match_branching, 2, 1024},
+      {"match_checks", match_checks, 1, 1'000'000},
+      {"max_support_half_window_px", max_support_half_window_px, 0, 1000},
+      {"consensus_min_votes", consensus_min_votes, 3, 1'000'000},
+      {"consensus_max_hypotheses", consensus_max_hypotheses, 1, 10'000},
+  };
+  for (const auto& c : counts)
+    if (c.value < c.lo || c.value > c.hi)
+      return Fail(error, std::string(c.name) + " must be from " + std::to_string(c.lo) + " to " +
+                             std::to_string(c.hi));
   const std::pair<const char*, float> radii[] = {
       {"scene_keypoint_radius_m", scene_keypoint_radius_m},
       {"scene_shot_radius_m", scene_shot_radius_m},
@@ -27,15 +45,8 @@ bool RecognitionOptions::IsValid(std::string* error) const {
   };
   for (const auto& [name, value] : radii)
     if (!PositiveFinite(value)) return Fail(error, std::string(name) + " must be finite and > 0");
-  if (max_scene_keypoints < 0) return Fail(error, "max_scene_keypoints must be >= 0");
   if (!std::isfinite(max_described_density_m) || max_described_density_m < 0)
     return Fail(error, "max_described_density_m must be finite and >= 0");
-  if (hough_threshold < 1) return Fail(error, "hough_threshold must be >= 1");
-  if (match_branching < 2) return Fail(error, "match_branching must be >= 2");
-  if (match_checks < 1) return Fail(error, "match_checks must be >= 1");
-  if (max_support_half_window_px < 0) return Fail(error, "max_support_half_window_px must be >= 0");
-  if (consensus_min_votes < 3) return Fail(error, "consensus_min_votes must be >= 3");
-  if (consensus_max_hypotheses < 1) return Fail(error, "consensus_max_hypotheses must be >= 1");
   return verify.IsValid(error);
 }
 

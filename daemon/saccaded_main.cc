@@ -10,6 +10,7 @@
 #include "io/log.h"
 
 #include <signal.h>
+#include <csignal>
 
 #include <iostream>
 #include <mutex>
@@ -51,6 +52,9 @@ bool LoadSettings(const saccade::Args& args, saccade::DaemonSettings* settings,
 
 int main(int argc, char** argv) {
   using namespace saccade;
+  // A reader of stdout or stderr that goes away (a closed pipe) must not end the daemon: the
+  // write fails instead.
+  std::signal(SIGPIPE, SIG_IGN);
   const std::vector<std::string> argv_list(argv + 1, argv + argc);
   Args args;
   std::string error;

@@ -27,7 +27,9 @@ bool PipelineOptions::IsValid(std::string* error) const {
 }
 
 bool ServiceOptions::IsValid(std::string* error) const {
-  if (!(status_period_s >= 0.05)) return Fail(error, "status_period_s must be >= 0.05");
+  // (An endless period once made the status thread's sleep outlast SIGTERM.)
+  if (!(status_period_s >= 0.05 && status_period_s <= 3600))
+    return Fail(error, "status_period_s must be from 0.05 to 3600 seconds");
   return true;
 }
 

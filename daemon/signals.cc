@@ -28,13 +28,19 @@ SignalWaiter::SignalWaiter(std::function<void(int)> on_signal) : on_signal_(std:
     for (;;) {
       int signo = 0;
       if (sigwait(&wait_set, &signo) != 0) continue;
-      if (signo == SIGUSR2) return;
+      // SIGUSR2 from our destructor ends the wait; one from outside is ignored (it once ended
+      // the wait, and with it the handling of SIGTERM, SIGINT and SIGHUP).
+      if (signo == SIGUSR2) {
+        if (stopping_) return;
+        continue;
+      }
       on_signal_(signo);
     }
   });
 }
 
 SignalWaiter::~SignalWaiter() {
+  stopping_ = true;
   pthread_kill(thread_.native_handle(), SIGUSR2);
   thread_.join();
   const sigset_t set = Handled();

@@ -2,6 +2,7 @@
 // locks and stop sources (a signal handler itself may do neither).
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <thread>
 
@@ -19,6 +20,7 @@ class SignalWaiter {
 
  private:
   std::function<void(int)> on_signal_;
+  std::atomic<bool> stopping_{false};  // set by the destructor before its SIGUSR2
   std::thread thread_;
 };
 

@@ -358,7 +358,9 @@ bool RobotFrameOptions::IsValid(std::string* error) const {
 
 bool BusOptions::IsValid(std::string* error) const {
   if (url.empty()) return Fail(error, "url must not be empty");
-  if (channel_prefix.empty()) return Fail(error, "channel_prefix must not be empty");
+  // LCM refuses channel names of 64 bytes or more, the longest being PREFIX_DETECTIONS.
+  if (channel_prefix.empty() || channel_prefix.size() > 52)
+    return Fail(error, "channel_prefix must be 1 to 52 characters (LCM channels are under 64)");
   if (!(max_fovea_distance_m > 0)) return Fail(error, "max_fovea_distance_m must be > 0");
   return true;
 }

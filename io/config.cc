@@ -1,5 +1,7 @@
 #include "io/config.h"
 
+#include <sys/stat.h>
+
 #include "core/fail.h"
 #include "io/log.h"
 
@@ -126,12 +128,21 @@ bool ApplySchema(const YAML::Node& node, const ConfigSchema& schema, const std::
 // Parses the file; a null node for an empty file. False with `error` when unreadable or when
 // the top level is not a mapping.
 bool LoadRoot(const std::string& path, YAML::Node* root, std::string* error) {
+  // Regular files only, of a config's size: a folder made yaml-cpp's stream throw past its own
+  // exceptions, and a FIFO or a device would block or never end.
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return Fail(error, path + ": cannot open file");
+  if (S_ISDIR(st.st_mode)) return Fail(error, path + ": is a directory, not a YAML file");
+  if (!S_ISREG(st.st_mode)) return Fail(error, path + ": not a regular file");
+  if (st.st_size > (16 << 20)) return Fail(error, path + ": larger than 16 MB, not a config");
   try {
     *root = YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {
     return Fail(error, path + ": cannot open file");
   } catch (const YAML::Exception& e) {
     return Fail(error, path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  } catch (const std::exception& e) {
+    return Fail(error, path + ": cannot read (" + std::string(e.what()) + ")");
   }
   if (!root->IsNull() && !root->IsMap()) {
     return Fail(error, path + ": top level must be a mapping");

@@ -1,6 +1,7 @@
 // saccade: the user's command line (recognize, bench, demo).
 #include "daemon/cli/commands.h"
 
+#include <csignal>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -54,6 +55,7 @@ exit codes: 0 ok, 1 input could not be processed, 2 bad usage
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);  // a closed pipe on stdout fails a write, it does not kill
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     std::cout << kUsage;

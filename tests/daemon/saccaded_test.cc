@@ -430,6 +430,33 @@ TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
 }
 
+// Signals from outside that once broke it: a SIGUSR2 ended its signal handling (SIGTERM was
+// then ignored), and a closed pipe on stderr killed it with SIGPIPE.
+TEST(Saccaded, StraySignalsAndAClosedStderrDoNotStopTheHandlingOfSigterm) {
+  Sandbox box;
+  StatusWatch watch(box.url);
+  int pipe_fds[2];
+  ASSERT_EQ(pipe(pipe_fds), 0);
+  const std::string err_pipe = "/dev/fd/" + std::to_string(pipe_fds[1]);
+  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                        "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+                       box.Path("out"), err_pipe);
+  close(pipe_fds[0]);  // nobody reads its stderr any more: the next line it logs meets EPIPE
+  close(pipe_fds[1]);
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
+  daemon.Signal(SIGUSR2);
+  daemon.Signal(SIGHUP);  // a reload logs a line: on the closed pipe
+  const std::int64_t seen = [&] {
+    std::int64_t n = 0;
+    watch.WaitFor([&](const saccade::status_t& s) { return (n = s.frames_processed) > 0; });
+    return n;
+  }();
+  EXPECT_TRUE(
+      watch.WaitFor([&](const saccade::status_t& s) { return s.frames_processed > seen + 5; }));
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0);
+}
+
 // Commands built to hurt: models that are devices, pipes, /proc entries or folders, lying
 // string lengths (0, negative, INT32_MIN, past the end), and a flood. Each is rejected and
 // counted, the log stays short (the first five a second are said), and the daemon still
@@ -655,6 +682,18 @@ TEST(Saccaded, BadConfigFilesStopItWithFileKeyAndReason) {
       {"model: synthetic:target\nattention:\n  fallback: pray\n", "expected full_scan | saccade"},
       {"model: synthetic:target\npipeline:\n  frames_in_flight: 0\n",
        "pipeline: frames_in_flight must be in [1, 16]"},
+      {"model: synthetic:target\nlcm:\n  channel_prefix: [a, b]\n",
+       "key 'lcm.channel_prefix': wrong type"},
+      {"model: synthetic:target\nrecognition: {hough_threshold: {a: 1}}\n",
+       "key 'recognition.hough_threshold': wrong type"},
+      // Each once crashed or hung the daemon (issue 21): SIGFPE, a sleep that outlasted SIGTERM,
+      // a prefix LCM refused on every publish.
+      {"model: synthetic:target\nrecognition:\n  max_support_half_window_px: 2147483647\n",
+       "max_support_half_window_px must be from 0 to 1000"},
+      {"model: synthetic:target\nservice:\n  status_period_s: .inf\n",
+       "status_period_s must be from 0.05 to 3600"},
+      {"model: synthetic:target\nlcm:\n  channel_prefix: " + std::string(60, 'A') + "\n",
+       "channel_prefix must be 1 to 52 characters"},
       {"model: [\n", "line"},
       {"source: synthetic:static\n", "no model"},
   };
@@ -670,6 +709,15 @@ TEST(Saccaded, BadConfigFilesStopItWithFileKeyAndReason) {
       EXPECT_NE(err.find(path), std::string::npos) << err;
     }
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  }
+  // Config paths that are not files: a folder once aborted it, a device would never end.
+  for (const std::string& path : {box.Path(""), std::string("/dev/zero")}) {
+    const Exit exit = Wait(Spawn({kSaccaded, "--config", path, "--lcm-url", "memq://"},
+                                 box.Path("out"), box.Path("err")));
+    const std::string err = ReadFile(box.Path("err"));
+    EXPECT_EQ(exit.code, 2) << path;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_NE(err.find(path + ": "), std::string::npos) << err;
   }
   // Runtime failures: the source and the model cannot be opened.
   Exit exit = Wait(Spawn({kSaccaded, "--model", "synthetic:target", "--source",
