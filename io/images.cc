@@ -6,6 +6,8 @@
 #include <png.h>
 #include <tiffio.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -28,13 +30,39 @@ bool Fail(std::string* error, const std::string& path, const std::string& why) {
 bool IsTiff(const std::string& path) { return EndsWith(path, ".tif") || EndsWith(path, ".tiff"); }
 
 // Reads any PNG into 8- or 16-bit samples, with libpng's simplified API.
+// Pixels an image may have: a header that claims more (a few bytes can) is refused before
+// anything is allocated for it.
+constexpr std::uint64_t kMaxPixels = 50'000'000;
+
+// A regular file (no FIFO or device is opened), or one line saying what it is instead.
+bool RegularFile(const std::string& path, std::string* error) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return Fail(error, path, "no such file");
+  if (!S_ISREG(st.st_mode)) return Fail(error, path, "not a regular file");
+  return true;
+}
+
 template <typename T>
 bool ReadPng(const std::string& path, std::uint32_t format, int channels, Image<T>* image,
              std::string* error) {
+  if (!RegularFile(path, error)) return false;
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
   if (!png_image_begin_read_from_file(&png, path.c_str()))
     return Fail(error, path, std::string("cannot read PNG: ") + png.message);
+  const auto refuse = [&](const std::string& why) {
+    png_image_free(&png);
+    return Fail(error, path, why);
+  };
+  if (static_cast<std::uint64_t>(png.width) * png.height > kMaxPixels)
+    return refuse("a PNG of " + std::to_string(png.width) + "x" + std::to_string(png.height) +
+                  " pixels, more than " + std::to_string(kMaxPixels));
+  // Depth is 16-bit grey (millimetres): an 8-bit or a colour image is not depth.
+  if (format == PNG_FORMAT_LINEAR_Y &&
+      (!(png.format & PNG_FORMAT_FLAG_LINEAR) || (png.format & PNG_FORMAT_FLAG_COLOR)))
+    return refuse(std::string("a depth image must be 16-bit grey (millimetres); this one is ") +
+                  ((png.format & PNG_FORMAT_FLAG_LINEAR) ? "16" : "8") + "-bit " +
+                  ((png.format & PNG_FORMAT_FLAG_COLOR) ? "colour" : "grey"));
   png.format = format;
   image->width = static_cast<int>(png.width);
   image->height = static_cast<int>(png.height);
@@ -68,6 +96,7 @@ struct TiffCloser {
 // Reads a strip or tiled TIFF of `bits`-bit samples; keeps the first `keep` channels.
 template <typename T>
 bool ReadTiff(const std::string& path, int keep, Image<T>* image, std::string* error) {
+  if (!RegularFile(path, error)) return false;
   TIFFSetErrorHandler(nullptr);
   TIFFSetWarningHandler(nullptr);
   std::unique_ptr<TIFF, TiffCloser> tif(TIFFOpen(path.c_str(), "r"));
@@ -82,7 +111,14 @@ bool ReadTiff(const std::string& path, int keep, Image<T>* image, std::string* e
     return Fail(error, path,
                 "expected " + std::to_string(8 * sizeof(T)) + "-bit samples, found " +
                     std::to_string(bits));
-  if (spp < keep) return Fail(error, path, "expected " + std::to_string(keep) + " channel(s)");
+  if (keep == 1 ? spp != 1 : (spp < keep || spp > 4))
+    return Fail(error, path,
+                "expected " + std::string(keep == 1 ? "1 channel" : "3 or 4 channels") +
+                    ", found " + std::to_string(spp));
+  if (w == 0 || h == 0 || static_cast<std::uint64_t>(w) * h > kMaxPixels)
+    return Fail(error, path,
+                "a TIFF of " + std::to_string(w) + "x" + std::to_string(h) + " pixels (1 to " +
+                    std::to_string(kMaxPixels) + ")");
   if (TIFFIsTiled(tif.get())) return Fail(error, path, "tiled TIFF is not supported");
   image->width = static_cast<int>(w);
   image->height = static_cast<int>(h);
