@@ -83,6 +83,46 @@ TEST(Cli, CloudWithoutValidPointIsRejected) {
   EXPECT_NE(r.out.find("no valid point"), std::string::npos) << r.out;
 }
 
+// Clouds with nothing to find in them: all points equal, on a line, on a plane, three points,
+// NaN everywhere but one. Recognition (foveated and the plain gold standard) and segmentation
+// finish (ctest's timeout bounds them) with no instance, or one line and exit 1.
+TEST(Cli, DegenerateCloudsFinishWithNothingOrOneLine) {
+  const auto cloud = [](const std::string& name, const std::vector<std::string>& rows) {
+    std::string text = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " +
+                       std::to_string(rows.size()) + "\nHEIGHT 1\nPOINTS " +
+                       std::to_string(rows.size()) + "\nDATA ascii\n";
+    for (const auto& r : rows) text += r + "\n";
+    return WriteFile(name, text);
+  };
+  std::vector<std::string> equal(3000, "0.1 0.2 1"), line, plane,
+      three = {"0 0 1", "0.01 0 1", "0 0.01 1"};
+  std::vector<std::string> nan(2999, "nan nan nan");
+  nan.push_back("0.1 0.1 1");
+  for (int i = 0; i < 3000; ++i) line.push_back(std::to_string(0.001 * i) + " 0.2 1");
+  for (int i = 0; i < 10000; ++i)
+    plane.push_back(std::to_string(0.002 * (i % 100)) + " " + std::to_string(0.002 * (i / 100)) +
+                    " 1");
+  for (const auto& [name, rows] : std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"equal", equal}, {"line", line}, {"plane", plane}, {"three", three}, {"nan1", nan}}) {
+    const std::string path = cloud("degenerate_" + name + ".pcd", rows);
+    for (const std::string& mode : {std::string(""), std::string(" --plain")}) {
+      const CliRun r = Saccade("recognize --model synthetic:target --scene " + path +
+                               " --fovea 0.1,0.2,1" + mode);
+      EXPECT_TRUE(r.code == 0 || (r.code == 1 && Lines(r.out) == 1)) << name << mode << r.out;
+      if (r.code == 0) {
+        EXPECT_NE(r.out.find("0 instance(s)"), std::string::npos) << r.out;
+      }
+    }
+    const CliRun model =
+        Saccade("recognize --model " + path + " --scene " + path + " --fovea 0,0,1");
+    // A line or a plane is a model of something (it has keypoints); the others are not.
+    EXPECT_TRUE(model.code == 0 || (model.code == 1 && Lines(model.out) == 1)) << name << model.out;
+    const CliRun segment = Saccade("segment --scene " + path + " --out " + path + ".model.pcd");
+    EXPECT_EQ(segment.code, 1) << name << segment.out;
+    EXPECT_EQ(Lines(segment.out), 1) << segment.out;
+  }
+}
+
 TEST(Cli, UnknownConfigKeyNamesFileAndKey) {
   const std::string cfg = WriteFile("bad.yaml", "recognition:\n  hough_bin: 0.01\n");
   const CliRun r = Saccade("recognize --model a.pcd --scene b.pcd --plain --config " + cfg);
