@@ -1,11 +1,12 @@
 #include "io/freenect_source.h"
 
+#include "io/camera_source.h"
+
 #include "core/fail.h"
 #include "core/registration.h"
 #include "io/fakenect_dump.h"
 #include "io/frame_pairer.h"
 #include "io/images.h"
-#include "io/mailbox.h"
 
 #include <libfreenect.h>
 
@@ -32,7 +33,7 @@ using Clock = std::chrono::steady_clock;
 // Half a frame period at 30 Hz, in ticks of the Kinect's 60 MHz clock.
 constexpr std::int64_t kPairingTolerance = static_cast<std::int64_t>(kKinectClockHz / 60);
 
-class FreenectSource : public FrameSource {
+class FreenectSource : public CameraSource {
  public:
   ~FreenectSource() override {
     Stop();
@@ -73,44 +74,14 @@ class FreenectSource : public FrameSource {
     freenect_select_subdevices(context_, FREENECT_DEVICE_CAMERA);
     std::string why;
     const bool opened = Connect(&why);
-    if (!opened && !(wait_at_start_s > 0)) return Fail(error, why);
-    if (!opened) {
-      SetState("waiting for device: " + why);
-      waiting_until_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                          std::chrono::duration<double>(wait_at_start_s));
-    }
+    if (!opened && !StartWaiting(why, wait_at_start_s)) return Fail(error, why);
     worker_ = std::thread([this, opened] { Run(!opened); });
     return true;
   }
 
-  Status Next(Frame* frame, std::string* error) override {
-    auto item = mailbox_.Take();
-    if (!item) return Status::kEnd;
-    if (!item->ok) {
-      Fail(error, item->error);
-      return Status::kError;
-    }
-    *frame = std::move(item->frame);
-    return Status::kFrame;
-  }
-
-  void Stop() override {
-    {
-      std::lock_guard<std::mutex> lock(wake_mutex_);  // not between the worker's check and wait
-      stopped_ = true;
-    }
-    mailbox_.CloseAndClear();
-    wake_.notify_all();
-  }
-
   SourceStats Stats() const override {
-    SourceStats s;
-    s.produced = produced_;
-    s.dropped = mailbox_.dropped();
-    s.reconnects = reconnects_;
+    SourceStats s = BaseStats();
     s.unpaired = unpaired_;  // copied from the pairer by the worker
-    std::lock_guard<std::mutex> lock(mutex_);
-    s.state = state_;
     return s;
   }
 
@@ -128,18 +99,7 @@ class FreenectSource : public FrameSource {
   }
 
  private:
-  struct Item {
-    bool ok = true;
-    Frame frame;
-    std::string error;
-  };
-
   std::string Spec() const { return "freenect://" + device_spec_; }
-
-  void SetState(const std::string& state) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    state_ = state;
-  }
 
   // The mode of `format` at 640x480 among those the library offers (fakenect offers only the
   // raw ones, and aborts when asked for another, so the modes are listed rather than found).
@@ -243,21 +203,8 @@ class FreenectSource : public FrameSource {
           SetState("streaming");
           continue;
         }
-        if (waiting && Clock::now() >= waiting_until_) {  // the wait at start is over
-          Item item;
-          item.ok = false;
-          item.error = why + " (waited " +
-                       std::to_string(static_cast<long long>(std::lround(
-                           std::chrono::duration<double>(Clock::now() - started_).count()))) +
-                       " s for it)";
-          mailbox_.Put(std::move(item));
-          mailbox_.Close();
-          return;
-        }
-        SetState((waiting ? "waiting for device: " : "reconnecting: ") + why);
         std::unique_lock<std::mutex> lock(wake_mutex_);
-        wake_.wait_for(lock, backoff, [this] { return stopped_.load(); });
-        backoff = std::min(backoff * 2, std::chrono::milliseconds(8000));
+        if (!BackOff(waiting, why, &backoff, &lock)) return;
         continue;
       }
       timeval timeout{0, 100000};
@@ -367,16 +314,7 @@ class FreenectSource : public FrameSource {
   std::int64_t ticks_ = 0;
   std::uint64_t sequence_ = 0;
   Clock::time_point last_frame_;
-  Clock::time_point waiting_until_;
-  const Clock::time_point started_ = Clock::now();
-  // Shared with the consumer and Stats().
-  LatestMailbox<Item> mailbox_;
-  std::atomic<bool> stopped_{false};
-  std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, unpaired_{0};  // unpaired: as pairer_
-  mutable std::mutex mutex_;
-  std::string state_ = "streaming";
-  std::mutex wake_mutex_;
-  std::condition_variable wake_;
+  std::atomic<std::uint64_t> unpaired_{0};  // as pairer_'s, for Stats()
   std::thread worker_;
 };
 

@@ -196,37 +196,11 @@ class StreamSource : public OpenNI2Source {
   // still resolves to it; by the time this one runs the streams are closed.
   ~StreamSource() override = default;
 
-  Status Next(Frame* frame, std::string* error) override {
-    auto item = mailbox_.Take();
-    if (!item) return Status::kEnd;
-    if (!item->ok) {
-      Fail(error, item->error);
-      return Status::kError;
-    }
-    *frame = std::move(item->frame);
-    return Status::kFrame;
-  }
-
-  void Stop() override {
-    {
-      std::lock_guard<std::mutex> lock(wake_mutex_);  // not between a waiter's check and wait
-      stopped_ = true;
-    }
-    mailbox_.CloseAndClear();
-    wake_.notify_all();
-  }
-
   SourceStats Stats() const override {
-    SourceStats s;
-    s.produced = produced_;
-    s.dropped = mailbox_.dropped() + skipped_;
-    s.reconnects = reconnects_;
-    {
-      std::lock_guard<std::mutex> lock(pair_mutex_);
-      s.unpaired = pairer_.unpaired();
-    }
-    std::lock_guard<std::mutex> lock(mutex_);
-    s.state = state_;
+    SourceStats s = BaseStats();
+    s.dropped += skipped_;
+    std::lock_guard<std::mutex> lock(pair_mutex_);
+    s.unpaired = pairer_.unpaired();
     return s;
   }
 
@@ -251,12 +225,6 @@ class StreamSource : public OpenNI2Source {
   }
 
  protected:
-  struct Item {
-    bool ok = true;
-    Frame frame;
-    std::string error;
-  };
-
   // Opens `uri`, its depth stream and, when asked and there, its colour stream with the
   // registration the options choose (`live`: a device, which may register; else a recording).
   bool OpenStream(const std::string& uri, bool live, std::string* error) {
@@ -437,11 +405,6 @@ class StreamSource : public OpenNI2Source {
     return pairer_.waiting();
   }
 
-  void SetState(const std::string& state) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    state_ = state;
-  }
-
   // One listener a stream: libOpenNI2 keeps one callback handle a listener, and hands it a
   // temporary VideoStream, so the listener itself says which stream it listens to.
   class Listener : public openni::VideoStream::NewFrameListener {
@@ -459,16 +422,11 @@ class StreamSource : public OpenNI2Source {
   openni::Device device_;
   openni::VideoStream depth_, colour_;
   openni::Recorder recorder_;
-  LatestMailbox<Item> mailbox_;
-  std::atomic<bool> stopped_{false};
-  std::atomic<std::uint64_t> produced_{0}, reconnects_{0}, skipped_{0};
+  std::mutex mutex_;  // the recorder
+  std::atomic<std::uint64_t> skipped_{0};
   int last_index_ = 0;                // OpenNI2's own frame index of the last depth frame read
   bool stop_at_wrap_ = false;         // a playback that does not loop: set before streaming
   std::atomic<bool> wrapped_{false};  // such a playback met the recording's start again
-  mutable std::mutex mutex_;
-  std::mutex wake_mutex_;  // with wake_: the device watchdog's sleeps, which Stop() ends
-  std::condition_variable wake_;
-  std::string state_ = "streaming";
 
  private:
   // A colour mode for a live device: RGB888 at the depth's size and rate when offered, else at
@@ -555,12 +513,7 @@ class DeviceSource : public StreamSource {
     device_spec_ = device;
     std::string why;
     const bool opened = Connect(&why);
-    if (!opened && !(wait_at_start_s > 0)) return Fail(error, why);
-    if (!opened) {
-      SetState("waiting for device: " + why);
-      waiting_until_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                          std::chrono::duration<double>(wait_at_start_s));
-    }
+    if (!opened && !StartWaiting(why, wait_at_start_s)) return Fail(error, why);
     last_frame_ = Clock::now().time_since_epoch().count();
     watchdog_ = std::thread([this, opened] { Watch(!opened); });
     return true;
@@ -620,19 +573,7 @@ class DeviceSource : public StreamSource {
           SetState("streaming");
           break;
         }
-        if (waiting && Clock::now() >= waiting_until_) {  // the wait at start is over
-          Item item;
-          item.ok = false;
-          item.error = why + " (waited " +
-                       std::to_string(static_cast<long long>(std::lround(
-                           std::chrono::duration<double>(Clock::now() - started_).count()))) +
-                       " s for it)";
-          mailbox_.Put(std::move(item));
-          return;
-        }
-        SetState((waiting ? "waiting for device: " : "reconnecting: ") + why);
-        wake_.wait_for(lock, backoff, [this] { return stopped_.load(); });
-        backoff = std::min(backoff * 2, std::chrono::milliseconds(8000));
+        if (!BackOff(waiting, why, &backoff, &lock)) return;
       }
       waiting = false;
     }
@@ -640,8 +581,6 @@ class DeviceSource : public StreamSource {
 
   std::string device_spec_;  // "", "#N", a URI or a serial number
   std::string uri_;          // the device's URI once found
-  const Clock::time_point started_ = Clock::now();
-  Clock::time_point waiting_until_;
   std::atomic<Clock::rep> last_frame_{0};
   std::thread watchdog_;
 };

@@ -1,7 +1,7 @@
 // OpenNI2 frame sources: live devices and .oni playback, through the real libOpenNI2.
 #pragma once
 
-#include "io/frame_source.h"
+#include "io/camera_source.h"
 
 #include <memory>
 #include <string>
@@ -9,7 +9,7 @@
 namespace saccade {
 
 /// A FrameSource backed by an openni::VideoStream, which can also be recorded.
-class OpenNI2Source : public FrameSource {
+class OpenNI2Source : public CameraSource {
  public:
   /// Starts writing every frame the streams (depth, and colour when open) deliver to an .oni file
   /// (openni::Recorder) until the source is destroyed or StopRecording(). False with `error` when

@@ -7,6 +7,7 @@
 #include "io/frame_writer.h"
 #include "io/images.h"
 #include "io/openni2_source.h"
+#include "support/depth_folder.h"
 
 #include <gtest/gtest.h>
 
@@ -42,14 +43,8 @@ class OpenNI2ColourTest : public ::testing::Test {
   // camera sees it; named before libOpenNI2 starts (the driver looks for it then).
   static void SetUpTestSuite() {
     dir_ = ::testing::TempDir() + "saccade_virtual_colour_" + std::to_string(getpid());
-    fs::remove_all(dir_);
+    testing::WriteSyntheticDepthFolder(dir_, kImages);
     std::string error;
-    auto source = OpenSource("synthetic:circular?rate=0&frames=" + std::to_string(kImages), &error);
-    ASSERT_TRUE(source) << error;
-    auto writer = FrameWriter::Open(dir_, FrameWriter::Format::kDepth, &error);
-    Frame f;
-    while (source->Next(&f, &error) == FrameSource::Status::kFrame)
-      ASSERT_TRUE(writer->Write(f, &error)) << error;
     IntrinsicsFile depth_k;
     ASSERT_TRUE(ReadIntrinsicsFile(dir_ + "/intrinsics.yaml", &depth_k, &error)) << error;
     camera_.intrinsics = depth_k;

@@ -5,6 +5,7 @@
 #include "io/frame_writer.h"
 #include "io/images.h"
 #include "io/openni2_source.h"
+#include "support/depth_folder.h"
 
 #include <gtest/gtest.h>
 
@@ -27,14 +28,8 @@ class OpenNI2Test : public ::testing::Test {
   static void SetUpTestSuite() {
     // One folder per process: ctest runs the tests of this file in parallel processes.
     dir_ = ::testing::TempDir() + "saccade_virtual_device_" + std::to_string(getpid());
-    fs::remove_all(dir_);
+    testing::WriteSyntheticDepthFolder(dir_, kImages);
     std::string error;
-    auto source = OpenSource("synthetic:circular?rate=0&frames=" + std::to_string(kImages), &error);
-    ASSERT_TRUE(source) << error;
-    auto writer = FrameWriter::Open(dir_, FrameWriter::Format::kDepth, &error);
-    Frame f;
-    while (source->Next(&f, &error) == FrameSource::Status::kFrame)
-      ASSERT_TRUE(writer->Write(f, &error)) << error;
     for (int i = 0; i < kImages; ++i) {
       DepthImage image;
       char name[64];
