@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
 
 .PHONY: all deps configure build demo test bench bench-stages bench-daemon bench-track eval-xcap \
-        eval-xcap-ppf clean
+        eval-xcap-ppf fuzz clean
 
 all: build
 
@@ -56,6 +56,11 @@ eval-xcap-ppf: build
 	@OMP_WAIT_POLICY=passive $(BUILD_DIR)/daemon/saccade eval \
 	  --cases ../shared/data/mosd_xcap/cases_with_pose.yaml --data ../shared/data \
 	  --configs configs/xcap-peer-configs.yaml --every 4 --out eval-xcap-ppf
+
+# libFuzzer on the PCD check and the LCM command decoder, FUZZ_SECONDS (60) each; see
+# docs/RELIABILITY.md. Installs Debian's clang-14 and libfuzzer-14-dev when missing.
+fuzz: build
+	@./scripts/fuzz.sh $(BUILD_DIR)
 
 clean:
 	@rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log
