@@ -255,8 +255,12 @@ void PublishStage::Process(Job* job) {
                               std::to_string(frame.instances.size()) + " instance(s), votes" +
                               votes + "; " + job->next.reason);
   }
-  if (!bus_->Publish(frame, job->next))
-    Log(LogLevel::kWarning, "frame " + std::to_string(frame.seq) + ": LCM did not send it");
+  std::int64_t unsaid = 0;
+  if (!bus_->Publish(frame, job->next) && send_failure_log_.Allow(&unsaid))
+    Log(LogLevel::kWarning,
+        "frame " + std::to_string(frame.seq) + ": LCM did not send it" +
+            (unsaid > 0 ? " (nor " + std::to_string(unsaid) + " frames before it, unlogged)"
+                        : std::string()));
   const std::int64_t t1 = SteadyNowNs();
   const std::string summary =
       summary_line_ ? SummaryLine(job->next, frame.instances, job->frame.truth) : "";

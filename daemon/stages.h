@@ -12,6 +12,7 @@
 #include "daemon/settings.h"
 #include "io/bus.h"
 #include "io/frame_source.h"
+#include "io/log.h"
 
 #include <atomic>
 #include <memory>
@@ -149,6 +150,7 @@ class PublishStage {
  private:
   Bus* const bus_;
   const bool summary_line_;
+  LogLimiter send_failure_log_{1};  // a network that refuses every send: one line a second
   mutable std::mutex mutex_;
   LatencyHistogram recognize_, track_, attend_, publish_, capture_to_publish_;  // this period
   LatencyHistogram run_recognize_, run_track_, run_capture_to_publish_;         // the whole run

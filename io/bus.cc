@@ -290,27 +290,15 @@ class LcmBus : public Bus {
     }
   }
 
-  // Counts a rejected command and logs why, at most kRejectLinesPerSecond lines a second (the
-  // next line logged says how many went unsaid): a flood of bad commands must not flood the
-  // log. From any thread.
+  // Counts a rejected command and logs why, at most 5 lines a second (the next line logged
+  // says how many went unsaid): a flood of bad commands must not flood the log. Any thread.
   void Reject(const std::string& why) {
     ++rejected_;
-    std::lock_guard<std::mutex> lock(reject_mutex_);
-    const auto now = std::chrono::steady_clock::now();
-    if (now - reject_window_ >= std::chrono::seconds(1)) {
-      reject_window_ = now;
-      reject_lines_ = 0;
-    }
-    if (reject_lines_ >= kRejectLinesPerSecond) {
-      ++unlogged_rejections_;
-      return;
-    }
-    ++reject_lines_;
+    std::int64_t unsaid = 0;
+    if (!reject_log_.Allow(&unsaid)) return;
     std::string line =
         "command rejected on " + CommandChannel(options_.channel_prefix) + ": " + why;
-    if (unlogged_rejections_ > 0)
-      line += " (" + std::to_string(unlogged_rejections_) + " more rejected before it, unlogged)";
-    unlogged_rejections_ = 0;
+    if (unsaid > 0) line += " (" + std::to_string(unsaid) + " more rejected before it, unlogged)";
     Log(LogLevel::kWarning, line);
   }
 
@@ -336,11 +324,7 @@ class LcmBus : public Bus {
   CommandHandler on_command_;
   std::atomic<std::int64_t> accepted_{0};
   std::atomic<std::int64_t> rejected_{0};
-  static constexpr int kRejectLinesPerSecond = 5;
-  std::mutex reject_mutex_;
-  std::chrono::steady_clock::time_point reject_window_{};
-  int reject_lines_ = 0;
-  std::int64_t unlogged_rejections_ = 0;
+  LogLimiter reject_log_{5};
   std::atomic<bool> stop_{false};
   int wake_[2] = {-1, -1};
   std::thread receiver_;

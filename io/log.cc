@@ -52,4 +52,20 @@ void Log(LogLevel level, const std::string& message) {
   std::fflush(stderr);
 }
 
+bool LogLimiter::Allow(std::int64_t* held_back, Clock::time_point now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (now - window_ >= std::chrono::seconds(1)) {
+    window_ = now;
+    lines_ = 0;
+  }
+  if (lines_ >= per_second_) {
+    ++held_back_;
+    return false;
+  }
+  ++lines_;
+  *held_back = held_back_;
+  held_back_ = 0;
+  return true;
+}
+
 }  // namespace saccade

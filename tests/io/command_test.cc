@@ -1,6 +1,7 @@
 // The command decoder and the model-path policy, without a daemon: every malformed message of a
 // corpus is refused with one line, well-formed ones decode to what was sent.
 #include "io/bus.h"
+#include "io/log.h"
 
 #include <saccade/command_t.hpp>
 
@@ -117,6 +118,21 @@ TEST(CommandModelAllowed, OnlyRegularFilesUnderTheModelFolders) {
   }
   EXPECT_FALSE(CommandModelAllowed(dir + "/models/mug.pcd", {}, &why));
   EXPECT_NE(why.find("model folders: none"), std::string::npos) << why;
+}
+
+TEST(LogLimiter, AtMostNLinesASecondAndTheNextSaysHowManyWereHeldBack) {
+  LogLimiter limiter(2);
+  const auto t0 = LogLimiter::Clock::time_point() + std::chrono::hours(1);
+  std::int64_t held = -1;
+  EXPECT_TRUE(limiter.Allow(&held, t0));
+  EXPECT_EQ(held, 0);
+  EXPECT_TRUE(limiter.Allow(&held, t0 + std::chrono::milliseconds(10)));
+  for (int i = 0; i < 7; ++i)
+    EXPECT_FALSE(limiter.Allow(&held, t0 + std::chrono::milliseconds(20)));
+  EXPECT_TRUE(limiter.Allow(&held, t0 + std::chrono::milliseconds(1000)));
+  EXPECT_EQ(held, 7);
+  EXPECT_TRUE(limiter.Allow(&held, t0 + std::chrono::milliseconds(1001)));
+  EXPECT_EQ(held, 0);
 }
 
 }  // namespace
