@@ -109,9 +109,9 @@ bool CheckBinary(const std::string& name, const std::string& bytes, const PcdHea
   // LZF packs at most about 88 to 1 (a 3-byte back reference copies up to 264 bytes): a block
   // claiming more would have us allocate gigabytes for a small file.
   if (need > 100ull * compressed + 1024)
-    return Fail(error, name, "binary_compressed block of " + std::to_string(compressed) +
-                                 " bytes cannot unpack to the " + std::to_string(need) +
-                                 " the header needs");
+    return Fail(error, name,
+                "binary_compressed block of " + std::to_string(compressed) +
+                    " bytes cannot unpack to the " + std::to_string(need) + " the header needs");
   std::vector<char> out(need);
   const unsigned got = pcl::lzfDecompress(bytes.data() + h.data_offset + 8, compressed, out.data(),
                                           static_cast<unsigned>(need));
