@@ -117,10 +117,10 @@ bool FakenectWriter::Write(const Frame& frame, std::string* error) {
 
   const std::int64_t utime = frame.capture_utime;
   // File names are the times: a frame at or before the last one would overwrite or reorder.
-  if (written_ > 0 && utime <= last_utime_)
+  if (last_utime_ && utime <= *last_utime_)
     return Fail(error, dir_ + ": frame " + std::to_string(frame.sequence) + " is captured at " +
                            std::to_string(utime) + " us, not after the frame before it (" +
-                           std::to_string(last_utime_) + " us); a dump's times must increase");
+                           std::to_string(*last_utime_) + " us); a dump's times must increase");
   const double seconds = 1000.0 + utime * 1e-6;  // any epoch: replay follows the differences
   const auto ticks = static_cast<std::uint32_t>(
       static_cast<std::uint64_t>(std::llround(utime * (kKinectClockHz / 1e6))) & 0xffffffffu);
@@ -142,7 +142,6 @@ bool FakenectWriter::Write(const Frame& frame, std::string* error) {
   if (!write('d', raw.data(), kDepthBytes) || !write('r', rgb.data(), kColourBytes)) return false;
   index_.flush();
   if (!index_) return Fail(error, dir_ + "/INDEX.txt: cannot write");
-  ++written_;
   last_utime_ = utime;
   return true;
 }

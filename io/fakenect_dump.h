@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace saccade {
@@ -49,8 +50,7 @@ class FakenectWriter {
   std::string dir_;
   ColourCalibration calibration_;
   std::ofstream index_;
-  std::size_t written_ = 0;
-  std::int64_t last_utime_ = 0;
+  std::optional<std::int64_t> last_utime_;  // of the last frame written
 };
 
 }  // namespace saccade

@@ -374,11 +374,8 @@ std::unique_ptr<FrameSource> OpenFiles(const SourceSpec& spec, std::string* erro
                                    : (fs::path(spec.target) / "intrinsics.yaml").string();
     IntrinsicsFile kf;
     if (!ReadIntrinsicsFile(k_path, &kf, error)) return nullptr;
-    CameraIntrinsics k;
-    k.fx = kf.fx, k.fy = kf.fy, k.cx = kf.cx, k.cy = kf.cy;
-    k.width = kf.width, k.height = kf.height;
-    sequence =
-        std::make_unique<DepthSequence>(spec.target, std::move(files), std::move(*truth), rate, k);
+    sequence = std::make_unique<DepthSequence>(spec.target, std::move(files), std::move(*truth),
+                                               rate, kf.Camera());
   }
   return std::make_unique<SequenceSource>(std::move(sequence), rate, loop);
 }

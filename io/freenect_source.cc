@@ -54,8 +54,7 @@ class FreenectSource : public CameraSource {
       if (k.width != kKinectWidth || k.height != kKinectHeight)
         return Fail(error, options.calibration + ": describes a " + std::to_string(k.width) + "x" +
                                std::to_string(k.height) + " colour camera; a Kinect's is 640x480");
-      CameraIntrinsics& c = calibration_.colour;
-      c.fx = k.fx, c.fy = k.fy, c.cx = k.cx, c.cy = k.cy;
+      calibration_.colour = k.Camera();
       calibration_.colour_from_depth = ColourFromDepth(file.t, file.r);
     }
     // fakenect exits the process on a file it cannot open: check its dump whole first.

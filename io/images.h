@@ -2,6 +2,8 @@
 // and the intrinsics file beside them. No PCL here, so the OpenNI2 driver can use it too.
 #pragma once
 
+#include "core/camera.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -37,6 +39,12 @@ std::string RgbPartner(const std::string& depth_path);
 struct IntrinsicsFile {
   double fx = 0, fy = 0, cx = 0, cy = 0;
   int width = 0, height = 0;
+
+  CameraIntrinsics Camera() const {
+    CameraIntrinsics k;
+    k.fx = fx, k.fy = fy, k.cx = cx, k.cy = cy, k.width = width, k.height = height;
+    return k;
+  }
 };
 bool ReadIntrinsicsFile(const std::string& path, IntrinsicsFile* intrinsics, std::string* error);
 bool WriteIntrinsicsFile(const std::string& path, const IntrinsicsFile& intrinsics,

@@ -312,9 +312,7 @@ class StreamSource : public OpenNI2Source {
       return Fail(error, colour_options_.calibration + ": describes a " + std::to_string(k.width) +
                              "x" + std::to_string(k.height) + " colour camera, the stream is " +
                              colour_size);
-    calibration.colour.fx = k.fx, calibration.colour.fy = k.fy;
-    calibration.colour.cx = k.cx, calibration.colour.cy = k.cy;
-    calibration.colour.width = k.width, calibration.colour.height = k.height;
+    calibration.colour = k.Camera();
     calibration.colour_from_depth = ColourFromDepth(file.t, file.r);
     return true;
   }

@@ -56,12 +56,6 @@ struct Recording {
   int stall_after = 0;  // > 0: the stream goes silent after this many frames (an unplug)
 };
 
-saccade::CameraIntrinsics ToCamera(const saccade::IntrinsicsFile& f) {
-  saccade::CameraIntrinsics k;
-  k.fx = f.fx, k.fy = f.fy, k.cx = f.cx, k.cy = f.cy, k.width = f.width, k.height = f.height;
-  return k;
-}
-
 bool LoadRecording(const std::string& dir, Recording* out) {
   std::string error;
   if (!saccade::ReadIntrinsicsFile(dir + "/intrinsics.yaml", &out->intrinsics, &error))
@@ -106,8 +100,8 @@ bool LoadRecording(const std::string& dir, Recording* out) {
   const Eigen::Isometry3d colour_from_depth = saccade::ColourFromDepth(camera.t, camera.r);
   for (const auto& depth : out->frames)
     out->registered.push_back(
-        second_camera ? saccade::RegisterDepth(depth.data.data(), ToCamera(out->intrinsics),
-                                               colour_from_depth, ToCamera(camera.intrinsics))
+        second_camera ? saccade::RegisterDepth(depth.data.data(), out->intrinsics.Camera(),
+                                               colour_from_depth, camera.intrinsics.Camera())
                       : depth.data);
   return true;
 }

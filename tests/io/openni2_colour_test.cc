@@ -31,12 +31,6 @@ std::array<std::uint8_t, 3> Pattern(const Eigen::Vector3d& p_D) {
           static_cast<std::uint8_t>(bit(p_D.z()) ? 230 : 30)};
 }
 
-CameraIntrinsics CameraOf(const IntrinsicsFile& f) {
-  CameraIntrinsics k;
-  k.fx = f.fx, k.fy = f.fy, k.cx = f.cx, k.cy = f.cy, k.width = f.width, k.height = f.height;
-  return k;
-}
-
 class OpenNI2ColourTest : public ::testing::Test {
  protected:
   // A folder of depth images (the depth camera), colour.yaml and the pattern as the colour
@@ -50,7 +44,7 @@ class OpenNI2ColourTest : public ::testing::Test {
     camera_.intrinsics = depth_k;
     camera_.t[0] = 0.025;  // the colour camera 25 mm to the right
     ASSERT_TRUE(WriteColourCameraFile(dir_ + "/" + kColourCameraFileName, camera_, &error));
-    const CameraIntrinsics k = CameraOf(depth_k);
+    const CameraIntrinsics k = depth_k.Camera();
     const Eigen::Isometry3d colour_from_depth = ColourFromDepth(camera_.t, camera_.r);
     for (int i = 0; i < kImages; ++i) {
       char name[64];
