@@ -4,7 +4,7 @@ JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
 
 .PHONY: all deps configure build demo test bench bench-stages bench-daemon bench-track eval-xcap \
-        eval-xcap-ppf fuzz clean
+        eval-xcap-ppf fuzz asan-build test-asan soak clean
 
 all: build
 
@@ -62,5 +62,25 @@ eval-xcap-ppf: build
 fuzz: build
 	@./scripts/fuzz.sh $(BUILD_DIR)
 
+# Every target under AddressSanitizer, LeakSanitizer and UBSan, in its own folder; see
+# docs/RELIABILITY.md (the first build takes about 25 minutes on 2 cores).
+ASAN_BUILD_DIR ?= build-asan
+asan-build: deps
+	@cmake -S . -B $(ASAN_BUILD_DIR) -DCMAKE_BUILD_TYPE=Release -DSACCADE_SANITIZE=ON \
+	  > $(ASAN_BUILD_DIR).configure.log 2>&1 || (cat $(ASAN_BUILD_DIR).configure.log; exit 1)
+	@cmake --build $(ASAN_BUILD_DIR) -j $(JOBS)
+
+# The whole suite on the sanitized build; any report fails the test that ran into it.
+test-asan: asan-build
+	@./scripts/multicast-route.sh
+	@./scripts/test-asan.sh $(ASAN_BUILD_DIR)
+
+# saccaded under ASan/LSan on a looping real capture for MINUTES (10): the memory's slope and
+# any leak at exit (needs ../shared/data); see docs/RELIABILITY.md.
+MINUTES ?= 10
+soak: asan-build
+	@./scripts/multicast-route.sh
+	@MINUTES=$(MINUTES) ./scripts/soak.sh $(ASAN_BUILD_DIR)
+
 clean:
-	@rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log
+	@rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log $(ASAN_BUILD_DIR) $(ASAN_BUILD_DIR).configure.log

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 #include "core/fail.h"
 
@@ -58,7 +59,8 @@ std::optional<Eigen::Vector3f> Args::ParseVector3(const std::string& text) {
   while (std::getline(s, part, ',')) {
     if (n == 3) return std::nullopt;
     const auto d = ParseNumber(part);
-    if (!d) return std::nullopt;
+    // Finite as a float too: 1e39 would become infinity.
+    if (!d || std::abs(*d) > std::numeric_limits<float>::max()) return std::nullopt;
     v[n++] = static_cast<float>(*d);
   }
   if (n != 3) return std::nullopt;

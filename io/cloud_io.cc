@@ -5,7 +5,9 @@
 #include "io/frame_source.h"
 #include "io/pcd_check.h"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/common/io.h>
@@ -76,8 +78,27 @@ bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error) 
   if (cloud.empty()) {
     return Fail(error, path + ": refusing to write an empty cloud");
   }
-  if (pcl::io::savePCDFileBinaryCompressed(path, cloud) < 0) {
-    return Fail(error, path + ": cannot write PCD file");
+  // Encoded in memory, written beside its place and renamed into it, so that a full disk or a
+  // failed write leaves no half file where a reader would take it for a whole one, and the
+  // error says why (PCL's own file writer loses errno).
+  pcl::PCLPointCloud2 blob;
+  pcl::toPCLPointCloud2(cloud, blob);
+  std::ostringstream encoded;
+  pcl::PCDWriter writer;
+  if (writer.writeBinaryCompressed(encoded, blob) < 0)
+    return Fail(error, path + ": cannot encode the cloud as a PCD file");
+  const std::string bytes = encoded.str();
+  const std::string part = path + ".part";
+  std::FILE* f = std::fopen(part.c_str(), "wb");
+  if (!f) return Fail(error, path + ": cannot write PCD file (" + std::strerror(errno) + ")");
+  int why = 0;
+  if (std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size() || std::fflush(f) != 0)
+    why = errno;
+  if (std::fclose(f) != 0 && why == 0) why = errno;
+  if (why == 0 && std::rename(part.c_str(), path.c_str()) != 0) why = errno;
+  if (why != 0) {
+    std::remove(part.c_str());
+    return Fail(error, path + ": cannot write PCD file (" + std::strerror(why) + ")");
   }
   return true;
 }

@@ -7,12 +7,53 @@
 #include <lcm/lcm-cpp.hpp>
 #include <saccade/fixation_t.hpp>
 
+#include <sys/stat.h>
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
 #include <iomanip>
 #include <ostream>
+#include <vector>
 
 namespace saccade {
 
+namespace {
+
+// fixation_t as lcm-gen encodes it, after its 8-byte type hash: each field's size in bytes,
+// kString for a string (a big-endian int32 length counting its final NUL, then the bytes).
+constexpr int kString = -1;
+constexpr int kFixationLayout[] = {8, 8, kString, 24, 24, 8, 1, kString, 4, 4, 4, kString};
+
+std::uint32_t BigEndian32(const unsigned char* p) {
+  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) |
+         std::uint32_t{p[3]};
+}
+
+// True when the message holds every field and every string's length is at least 1 and within
+// the message: lcm-gen's decoder checks only that a length is not past the end, so a length of
+// 0 or below would make it copy (size_t)-1 bytes.
+bool FixationFits(const unsigned char* data, std::size_t size) {
+  std::size_t at = 8;
+  for (int field : kFixationLayout) {
+    if (field != kString) {
+      at += static_cast<std::size_t>(field);
+      if (at > size) return false;
+      continue;
+    }
+    if (size - at < 4 || at > size) return false;
+    const auto length = static_cast<std::int32_t>(BigEndian32(data + at));
+    at += 4;
+    if (length < 1 || static_cast<std::size_t>(length) > size - at) return false;
+    at += static_cast<std::size_t>(length);
+  }
+  return at <= size;
+}
+
+}  // namespace
+
 bool DecodeFixation(const void* data, std::size_t size, LoggedFixation* logged) {
+  if (!FixationFits(static_cast<const unsigned char*>(data), size)) return false;
   saccade::fixation_t m;
   if (m.decode(data, 0, static_cast<int>(size)) < 0) return false;
   if (m.mode < 0 || m.mode > static_cast<int>(AttentionMode::kFullScan)) return false;
@@ -79,22 +120,70 @@ void FixationWriter::Write(const LoggedFixation& logged) {
   out_.flush();
 }
 
+namespace {
+
+// lcm-logger's event (LCM's eventlog.c): the sync word, the event number and the time (int64
+// each), the channel's length and the data's length (int32 each), then the channel and the
+// data; big-endian. LCM limits a channel to 63 bytes.
+constexpr std::uint32_t kLogSync = 0xEDA1DA01;
+constexpr std::size_t kEventHeader = 4 + 8 + 8 + 4 + 4;
+constexpr std::uint32_t kMaxChannel = 63;
+
+}  // namespace
+
+bool CheckLcmLog(const std::string& path, std::string* error) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return Fail(error, path + ": " + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) return Fail(error, path + ": not a regular file");
+  if (st.st_size == 0) return Fail(error, path + ": empty file, not an lcm-logger log");
+  std::ifstream in(path, std::ios::binary);
+  unsigned char sync[4] = {};
+  if (!in.read(reinterpret_cast<char*>(sync), 4) || BigEndian32(sync) != kLogSync)
+    return Fail(error, path + ": not an lcm-logger log (it does not start with an event)");
+  return true;
+}
+
 bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
                         FixationWriter* writer, FixationLogStats* stats, std::string* error) {
-  lcm::LogFile log(log_path, "r");
-  if (!log.good()) {
-    return Fail(error, "'" + log_path + "': cannot read it as an LCM log");
-  }
-  while (const lcm::LogEvent* e = log.readNextEvent()) {
-    if (e->channel != channel) continue;
+  if (!CheckLcmLog(log_path, error)) return false;
+  std::ifstream in(log_path, std::ios::binary);
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<std::uint64_t>(in.tellg());
+  std::uint64_t at = 0;
+  std::vector<unsigned char> header(kEventHeader), body;
+  while (at + kEventHeader <= size) {
+    in.seekg(static_cast<std::streamoff>(at));
+    if (!in.read(reinterpret_cast<char*>(header.data()), kEventHeader)) break;
+    const std::uint32_t channel_len = BigEndian32(&header[20]);
+    const std::uint32_t data_len = BigEndian32(&header[24]);
+    const std::uint64_t left = size - at - kEventHeader;
+    const bool sync = BigEndian32(&header[0]) == kLogSync;
+    if (sync && channel_len >= 1 && channel_len <= kMaxChannel && channel_len <= left &&
+        data_len > left - channel_len) {
+      ++stats->skipped;  // the last event, cut short (the logger was killed while writing)
+      at = size;
+      break;
+    }
+    if (!sync || channel_len == 0 || channel_len > kMaxChannel || channel_len > left) {
+      // Not an event here: count it once and look for the next sync word, byte by byte.
+      if (sync) ++stats->skipped;
+      ++at;
+      continue;
+    }
+    body.resize(channel_len + data_len);
+    if (!in.read(reinterpret_cast<char*>(body.data()), static_cast<std::streamsize>(body.size())))
+      break;
+    at += kEventHeader + body.size();
+    if (std::string(body.begin(), body.begin() + channel_len) != channel) continue;
     LoggedFixation r;
-    if (DecodeFixation(e->data, static_cast<std::size_t>(e->datalen), &r)) {
+    if (DecodeFixation(body.data() + channel_len, data_len, &r)) {
       writer->Write(r);
       ++stats->written;
     } else {
       ++stats->skipped;
     }
   }
+  if (at < size) ++stats->skipped;  // a last event shorter than its header
   return true;
 }
 

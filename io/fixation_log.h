@@ -40,10 +40,16 @@ class FixationWriter {
 /// What a conversion did.
 struct FixationLogStats {
   std::int64_t written = 0;
-  std::int64_t skipped = 0;  // messages on the channel that did not decode
+  std::int64_t skipped = 0;  // messages on the channel that did not decode, corrupt events
 };
 
-/// Writes every message of `channel` in an lcm-logger log. False with `error` when the log
+/// Whether `path` is an lcm-logger log, checked before anything reads it: a regular file, not
+/// empty, starting with an event's sync word. False with "PATH: reason" otherwise.
+bool CheckLcmLog(const std::string& path, std::string* error);
+
+/// Writes every message of `channel` in an lcm-logger log (CheckLcmLog first). Each event's
+/// lengths are checked against the file before it is read; a corrupt stretch is skipped to the
+/// next event, a truncated last event ends the log; both are counted in `stats->skipped`. False with `error` when the log
 /// cannot be read.
 bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
                         FixationWriter* writer, FixationLogStats* stats, std::string* error);

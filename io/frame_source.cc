@@ -316,6 +316,16 @@ bool OptionNumber(const SourceSpec& spec, const std::string& key, double fallbac
   return true;
 }
 
+// rate=HZ: 0 (as fast as frames come) or 0.01-1000 Hz. A tinier rate would wait for ages
+// between frames (1e-300: for ever), a huge one is no rate.
+bool OptionRate(const SourceSpec& spec, double fallback, double* out, std::string* error) {
+  if (!OptionNumber(spec, "rate", fallback, out, error)) return false;
+  if (*out != 0 && (*out < 0.01 || *out > 1000))
+    return Fail(error, "source '" + SpecText(spec) + "': option rate=" + spec.options.at("rate") +
+                           " is out of range (0: as fast as frames come, or 0.01-1000 Hz)");
+  return true;
+}
+
 bool OptionBool(const SourceSpec& spec, const std::string& key, bool* out, std::string* error) {
   auto it = spec.options.find(key);
   if (it == spec.options.end()) return true;
@@ -343,7 +353,7 @@ std::unique_ptr<FrameSource> OpenFiles(const SourceSpec& spec, std::string* erro
   double rate = 0;
   bool loop = false;
   if (!OnlyOptions(spec, {"rate", "loop", "intrinsics"}, error) ||
-      !OptionNumber(spec, "rate", 0, &rate, error) || !OptionBool(spec, "loop", &loop, error))
+      !OptionRate(spec, 0, &rate, error) || !OptionBool(spec, "loop", &loop, error))
     return nullptr;
   if (spec.kind == "pcd" && spec.options.count("intrinsics")) {
     Fail(error, "source 'pcd:" + spec.target + "': option 'intrinsics' is for depth: sources");
@@ -397,14 +407,16 @@ std::unique_ptr<FrameSource> OpenSynthetic(const SourceSpec& spec, std::string* 
   }
   double rate = scenario.rate_hz, frames = scenario.frames, seed = scenario.seed;
   bool loop = false;
-  if (!OptionNumber(spec, "rate", scenario.rate_hz, &rate, error) ||
+  if (!OptionRate(spec, scenario.rate_hz, &rate, error) ||
       !OptionNumber(spec, "frames", scenario.frames, &frames, error) ||
       !OptionNumber(spec, "seed", scenario.seed, &seed, error) ||
       !OptionBool(spec, "loop", &loop, error))
     return nullptr;
-  if (frames < 1 || frames > 1e7 || frames != std::floor(frames) || seed != std::floor(seed)) {
+  if (frames < 1 || frames > 1e7 || frames != std::floor(frames) || seed != std::floor(seed) ||
+      seed > 4294967295.0) {
     Fail(error, "source 'synthetic:" + spec.target +
-                    "': frames and seed must be whole numbers, frames >= 1");
+                    "': frames and seed must be whole numbers, frames 1-10000000, seed "
+                    "0-4294967295");
     return nullptr;
   }
   scenario.frames = static_cast<int>(frames);
@@ -457,7 +469,7 @@ std::unique_ptr<FrameSource> OpenCapture(const SourceSpec& spec, std::string* er
   if (!LoadCapture(spec, &s, &capture, error)) return nullptr;
   double rate = s.rate_hz, frames = s.frames;
   bool loop = false;
-  if (!OptionNumber(spec, "rate", s.rate_hz, &rate, error) ||
+  if (!OptionRate(spec, s.rate_hz, &rate, error) ||
       !OptionNumber(spec, "frames", s.frames, &frames, error) ||
       !OptionBool(spec, "loop", &loop, error))
     return nullptr;

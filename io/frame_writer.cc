@@ -5,8 +5,10 @@
 #include "io/images.h"
 #include "io/truth_file.h"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 namespace saccade {
@@ -83,7 +85,8 @@ bool FrameWriter::Write(const Frame& frame, std::string* error) {
     truth_ << TruthCsvRow({frame.sequence, frame.capture_utime, *frame.truth}) << "\n";
     truth_.flush();
     if (!truth_) {
-      return Fail(error, (dir / kTruthFileName).string() + ": cannot write");
+      return Fail(error, (dir / kTruthFileName).string() + ": cannot write (" +
+                             std::strerror(errno) + ")");
     }
   }
   ++count_;

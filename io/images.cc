@@ -9,8 +9,10 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -84,8 +86,16 @@ bool WritePng(const std::string& path, std::uint32_t format, const Image<T>& ima
   png.width = static_cast<png_uint_32>(image.width);
   png.height = static_cast<png_uint_32>(image.height);
   png.format = format;
-  if (!png_image_write_to_file(&png, path.c_str(), 0, image.data.data(), 0, nullptr))
-    return Fail(error, path, std::string("cannot write PNG: ") + png.message);
+  // On failure libpng removes the file it began; its message may only say "Write Error", so
+  // errno says why (a full disk).
+  errno = 0;
+  if (!png_image_write_to_file(&png, path.c_str(), 0, image.data.data(), 0, nullptr)) {
+    const int why = errno;
+    std::string message = std::string("cannot write PNG: ") + png.message;
+    if (why != 0 && message.find(std::strerror(why)) == std::string::npos)
+      message += std::string(" (") + std::strerror(why) + ")";
+    return Fail(error, path, message);
+  }
   return true;
 }
 

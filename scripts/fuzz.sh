@@ -3,35 +3,80 @@
 # each for FUZZ_SECONDS (default 60) from its seed corpus. A crash stops with the input that
 # made it (fuzz-out/<target>/crash-*): add it to tests/fuzz/corpus/<target>/ as a regression
 # input once fixed. Needs Debian's clang-14 and libfuzzer-14-dev (installed when missing).
+#
+#   scripts/fuzz.sh [BUILD_DIR] [TARGET...]   build and run (all targets by default)
+#   FUZZ_OUT=DIR                              where binaries, logs and grown corpora go
+#   FUZZ_SECONDS=N                            each target's time
+#   FUZZ_INSTALL=0                            never install clang (the short run in make test)
+#
+# The code under test is compiled here with coverage instrumentation; the rest of Saccade it
+# needs comes from BUILD_DIR's libraries, linked as saccaded is (its link line), so a target
+# can reach any loader without a second build of the project.
 set -euo pipefail
-build_dir=${1:-build}
+build_dir=$(cd "${1:-build}" && pwd)
+shift || true
 seconds=${FUZZ_SECONDS:-60}
 root=$(cd "$(dirname "$0")/.." && pwd)
-out="$root/fuzz-out"
+out=${FUZZ_OUT:-$root/fuzz-out}
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(pcd command config image source)
 for p in clang-14 libfuzzer-14-dev; do
   if [ "$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null || true)" != installed ]; then
+    if [ "${FUZZ_INSTALL:-1}" = 0 ]; then
+      echo "saccade fuzz: $p is not installed" >&2
+      exit 77
+    fi
     echo "saccade fuzz: installing $p" >&2
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$p" >/dev/null
   fi
 done
+flags_make="$build_dir/io/CMakeFiles/saccade_io.dir/flags.make"
+link_txt="$build_dir/daemon/CMakeFiles/saccaded.dir/link.txt"
+for f in "$flags_make" "$link_txt"; do
+  [ -f "$f" ] || { echo "saccade fuzz: $f missing (build first: make build)" >&2; exit 1; }
+done
+# The project's definitions and include paths, and saccaded's libraries (not its objects,
+# output or optimisation flags).
+read -r -a defines <<<"$(sed -n 's/^CXX_DEFINES = //p' "$flags_make")"
+read -r -a includes <<<"$(sed -n 's/^CXX_INCLUDES = //p' "$flags_make")"
+read -r -a link <<<"$(cut -d' ' -f2- "$link_txt")"
+libs=()
+skip_next=0
+for arg in "${link[@]}"; do
+  if [ $skip_next = 1 ]; then skip_next=0; continue; fi
+  case "$arg" in
+    -o) skip_next=1 ;;
+    *.o | -O* | -DNDEBUG | -g*) ;;
+    *) libs+=("$arg") ;;
+  esac
+done
 flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
-       -DEIGEN_HAS_CXX17_OVERALIGN=0 -I"$root" -I"$root/$build_dir/io/lcmtypes"
-       -I/usr/include/pcl-1.13 -I/usr/include/eigen3)
-mkdir -p "$out"
+       "${defines[@]}" "${includes[@]}" -I"$build_dir/io/lcmtypes")
 declare -A sources=(
-  [pcd]="$root/tests/fuzz/pcd_check_fuzz.cc $root/io/pcd_check.cc -lpcl_io -lpcl_common"
-  [command]="$root/tests/fuzz/command_fuzz.cc $root/io/bus.cc $root/io/log.cc $root/core/fixation.cc -llcm -lpcl_common -lpthread"
+  [pcd]="tests/fuzz/pcd_check_fuzz.cc io/pcd_check.cc"
+  [command]="tests/fuzz/command_fuzz.cc io/bus.cc io/log.cc"
+  [config]="tests/fuzz/config_fuzz.cc io/config.cc daemon/settings.cc io/truth_file.cc io/images.cc"
+  [image]="tests/fuzz/image_fuzz.cc io/images.cc"
+  [source]="tests/fuzz/source_fuzz.cc io/frame_source.cc"
 )
-for target in pcd command; do
+mkdir -p "$out"
+for target in "${targets[@]}"; do
+  [ -n "${sources[$target]:-}" ] || { echo "saccade fuzz: no target '$target'" >&2; exit 2; }
   echo "saccade fuzz: building $target" >&2
-  # shellcheck disable=SC2086
-  clang++-14 "${flags[@]}" ${sources[$target]} -o "$out/$target-fuzz"
+  src=()
+  for s in ${sources[$target]}; do src+=("$root/$s"); done
+  # From saccaded's folder, where its link line's relative library paths hold.
+  (cd "$build_dir/daemon" && clang++-14 "${flags[@]}" "${src[@]}" "${libs[@]}" \
+     -o "$out/$target-fuzz" 2>"$out/$target.build.log") ||
+    { cat "$out/$target.build.log" >&2; echo "saccade fuzz: $target did not build" >&2; exit 1; }
+done
+for target in "${targets[@]}"; do
   mkdir -p "$out/$target"
   cp -n "$root/tests/fuzz/corpus/$target/"* "$out/$target/" 2>/dev/null || true
   echo "saccade fuzz: $target for $seconds s" >&2
   (cd "$out" && "./$target-fuzz" "$target" -max_total_time="$seconds" -max_len=4096 \
-     -rss_limit_mb=2048 -print_final_stats=1 2>"$target.log") ||
+     -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 2>"$target.log") ||
     { tail -30 "$out/$target.log"; echo "saccade fuzz: $target found a crash (above)" >&2; exit 1; }
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$out/$target.log" | sed "s/^/  $target: /"
 done
-echo "saccade fuzz: no crash" >&2
+echo "saccade fuzz: no crash in ${targets[*]}" >&2

@@ -1,7 +1,6 @@
 // `saccade log-fixations` (live, from LCM) and `saccade fixations LOG` (from an lcm-logger
-
-#include "core/fail.h"
 // file): the attention log as CSV or JSON lines.
+#include "core/fail.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/signals.h"
@@ -49,6 +48,10 @@ int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std
   if (!args.Parse(argv, {"channel", "out", "lcm-url", "count"}, {}, &error))
     return Usage(err, "log-fixations", error);
   if (!args.Has("out")) return Usage(err, "log-fixations", kOutRequired);
+  FixationWriter::Format format;
+  if (!FixationWriter::FormatOf(args.Get("out") == "-" ? "-.csv" : args.Get("out"), &format,
+                                &error))
+    return Usage(err, "log-fixations", error);
   std::int64_t count = 0;
   if (args.Has("count")) {
     const auto n = Args::ParsePositiveInt(args.Get("count"));
@@ -83,9 +86,14 @@ int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::o
   if (!args.Parse({argv.begin() + 1, argv.end()}, {"channel", "out"}, {}, &error))
     return Usage(err, "fixations", error);
   if (!args.Has("out")) return Usage(err, "fixations", kOutRequired);
+  FixationWriter::Format format;
+  if (!FixationWriter::FormatOf(args.Get("out") == "-" ? "-.csv" : args.Get("out"), &format,
+                                &error))
+    return Usage(err, "fixations", error);
   Output output;
   FixationLogStats stats;
-  if (!OpenOutput(args, out, &output, &error) ||
+  // The log is checked before the output is opened: a log that is not one writes nothing.
+  if (!CheckLcmLog(argv[0], &error) || !OpenOutput(args, out, &output, &error) ||
       !ConvertFixationLog(argv[0], args.Get("channel", FixationChannel("SACCADE")),
                           output.writer.get(), &stats, &error)) {
     err << "saccade fixations: " << error << "\n";

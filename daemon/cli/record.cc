@@ -52,13 +52,18 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
   }
   std::unique_ptr<FrameWriter> writer;
   std::unique_ptr<FakenectWriter> dump;
-  if (format == "fakenect") {
-    dump = FakenectWriter::Open(dir, NominalKinectCalibration(), &error);
-    if (!dump) {
-      err << "saccade record: " << error << "\n";
-      return kExitFailure;
+  // The output is made when the first frame has come: a source that fails before it writes
+  // nothing.
+  auto open_output = [&](std::string* why) -> bool {
+    if (format == "fakenect") {
+      dump = FakenectWriter::Open(dir, NominalKinectCalibration(), why);
+      return dump != nullptr;
     }
-  } else if (format == "oni") {
+    writer = FrameWriter::Open(
+        dir, format == "pcd" ? FrameWriter::Format::kPcd : FrameWriter::Format::kDepth, why);
+    return writer != nullptr;
+  };
+  if (format == "oni") {
     auto* openni = dynamic_cast<OpenNI2Source*>(source.get());
     if (!openni) {
       err << "saccade record: --format oni needs an OpenNI2 source (openni2:// or .oni); "
@@ -72,13 +77,6 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
       err << "saccade record: " << error << "\n";
       return kExitFailure;
     }
-  } else {
-    writer = FrameWriter::Open(
-        dir, format == "pcd" ? FrameWriter::Format::kPcd : FrameWriter::Format::kDepth, &error);
-    if (!writer) {
-      err << "saccade record: " << error << "\n";
-      return kExitFailure;
-    }
   }
   int taken = 0;
   Frame frame;
@@ -86,8 +84,9 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
   while (!frames || taken < *frames) {
     const auto status = source->Next(&frame, &error);
     if (status == FrameSource::Status::kEnd) break;
-    if (status == FrameSource::Status::kError || (writer && !writer->Write(frame, &error)) ||
-        (dump && !dump->Write(frame, &error))) {
+    if (status == FrameSource::Status::kError ||
+        (format != "oni" && !writer && !dump && !open_output(&error)) ||
+        (writer && !writer->Write(frame, &error)) || (dump && !dump->Write(frame, &error))) {
       err << "saccade record: " << error << "\n";
       code = kExitFailure;
       break;
@@ -99,6 +98,7 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
     std::lock_guard<std::mutex> lock(running_mutex);
     running = nullptr;
   }
+  if (code != kExitOk && taken == 0) return code;  // the line said it; nothing was recorded
   const SourceStats stats = source->Stats();
   out << "recorded " << taken << " frame(s) from " << source->Describe() << " to " << dir << " ("
       << format << "), " << stats.dropped << " dropped";

@@ -121,7 +121,15 @@ int RunSegment(const std::vector<std::string>& argv, std::ostream& out, std::ost
     if (!v) return Usage(err, "segment", "--seed expects a positive integer");
     options.seed = static_cast<std::uint32_t>(*v);
   }
-  if (!options.IsValid(&error)) return Usage(err, "segment", error);
+  if (!options.IsValid(&error)) {
+    // The options name their fields; the user typed flags.
+    for (const auto& [field, flag] : {std::pair<std::string, std::string>{"z_max", "--z-max"},
+                                      {"plane_fraction", "--plane-fraction"},
+                                      {"plane_distance", "--plane-distance"},
+                                      {"cluster_distance", "--cluster-distance"}})
+      if (error.rfind(field + " ", 0) == 0) error = flag + error.substr(field.size());
+    return Usage(err, "segment", error);
+  }
   const auto rule = ParsePick(args.Get("pick", "largest"));
   if (!rule)
     return Usage(

@@ -1,6 +1,7 @@
 // saccaded end to end: the real binary, real LCM over UDP multicast on this host (ttl=0), and
 // Debian's lcm-logger as the subscriber whose log the assertions read.
 #include "core/sim/scenario.h"
+#include "io/cloud_io.h"
 #include "io/config.h"
 
 #include <fcntl.h>
@@ -426,6 +427,43 @@ TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
       [&] { return ReadFile(box.Path("err")).find("info: reloaded") != std::string::npos; }));
   EXPECT_TRUE(watch.WaitForFixation(
       [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::FULL_SCAN; }));
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
+}
+
+// A model file removed before a reload (a package upgrade, a user tidying the models folder):
+// the reload fails naming the file, the model already loaded goes on tracking, and once the
+// file is back the next SIGHUP loads it.
+TEST(Saccaded, AModelFileRemovedBeforeAReloadKeepsTheLoadedModelTracking) {
+  Sandbox box;
+  StatusWatch watch(box.url);
+  const std::string model = box.Path("target.pcd");
+  std::string error;
+  ASSERT_TRUE(saccade::SaveCloud(model, saccade::SyntheticTargetModel(1), &error)) << error;
+  const std::string config = box.Path("saccaded.yaml");
+  fs::copy_file(kSourceDir + "/configs/demo.yaml", config);
+  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 1\n";
+  Child daemon = Spawn({kSaccaded, "--config", config, "--model", model, "--source",
+                        "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"));
+  ASSERT_TRUE(watch.WaitForFixation(
+      [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::TRACKING; }));
+
+  const std::string kept = box.Path("kept.pcd");
+  fs::rename(model, kept);
+  daemon.Signal(SIGHUP);
+  EXPECT_TRUE(WaitFor(
+      [&] { return ReadFile(box.Path("err")).find("reload failed") != std::string::npos; }));
+  EXPECT_NE(ReadFile(box.Path("err")).find(model), std::string::npos) << ReadFile(box.Path("err"));
+  EXPECT_TRUE(watch.WaitForFixation(
+      [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::TRACKING; }));
+
+  fs::rename(kept, model);
+  daemon.Signal(SIGHUP);
+  EXPECT_TRUE(WaitFor(
+      [&] { return ReadFile(box.Path("err")).find("info: reloaded") != std::string::npos; }));
+  EXPECT_TRUE(watch.WaitForFixation(
+      [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::TRACKING; }));
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
 }

@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# `make soak MINUTES=N`: saccaded under AddressSanitizer and LeakSanitizer on a looping real
+# capture (configs/sequences/object-moving.yaml: a coffee can sliding across a real mOSD
+# capture, 30 Hz, needs ../shared/data) for N minutes. Samples the daemon's resident memory
+# every SAMPLE_S seconds into soak-out/memory.csv, fits a line to the samples after the first
+# quarter (ASan's quarantine and the caches fill first), prints the slope and what it would
+# add over a day-equivalent (2.6 M frames at the source's 30 Hz), then stops the daemon with
+# SIGTERM and fails on any leak LeakSanitizer reports at exit.
+set -euo pipefail
+build_dir=${1:-build-asan}
+minutes=${MINUTES:-10}
+sample_s=${SAMPLE_S:-10}
+data=${SACCADE_DATA:-../shared/data}
+root=$(cd "$(dirname "$0")/.." && pwd)
+out="$root/soak-out"
+sequence="configs/sequences/object-moving.yaml"
+if [ ! -d "$data/mosd_xcap" ]; then
+  echo "saccade soak: $data/mosd_xcap not found (the soak runs on real data; see ../shared/data/README.md)" >&2
+  exit 1
+fi
+mkdir -p "$out"
+cat > "$out/soak.yaml" <<YAML
+source: "capture:$sequence?loop=1&data=$data"
+model: "capture:$sequence?data=$data"
+initial_fovea_m: [0.0, 0.0, 1.0]
+service: {status_period_s: 10, summary: line}
+YAML
+export ASAN_OPTIONS="detect_leaks=1:exitcode=66:quarantine_size_mb=16"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:exitcode=66"
+export LSAN_OPTIONS="suppressions=$root/scripts/sanitizers/lsan.supp:print_suppressions=0"
+export OMP_WAIT_POLICY=passive
+"$build_dir/daemon/saccaded" --config "$out/soak.yaml" --lcm-url "udpm://239.255.76.67:7667?ttl=0" \
+  >"$out/saccaded.log" 2>&1 &
+pid=$!
+trap 'kill -TERM $pid 2>/dev/null || true' EXIT
+echo "saccade soak: saccaded (pid $pid) on $sequence looping at 30 Hz for $minutes min;" \
+     "memory every $sample_s s in $out/memory.csv" >&2
+echo "seconds,rss_kb" > "$out/memory.csv"
+start=$(date +%s)
+end=$((start + minutes * 60))
+while [ "$(date +%s)" -lt "$end" ]; do
+  rss=$(awk '/^VmRSS:/ {print $2}' "/proc/$pid/status" 2>/dev/null) ||
+    { echo "saccade soak: saccaded ended early:" >&2; tail -20 "$out/saccaded.log" >&2; exit 1; }
+  echo "$(( $(date +%s) - start )),$rss" >> "$out/memory.csv"
+  sleep "$sample_s"
+done
+kill -TERM "$pid"
+trap - EXIT
+status=0
+wait "$pid" || status=$?
+# Frames the source made and the daemon recognized: the last status line saccaded printed.
+last=$(grep -E '^ *[0-9.]+ s +[0-9.]+ fps' "$out/saccaded.log" | tail -1 || true)
+awk -F, -v minutes="$minutes" -v last="$last" '
+  NR == 1 { next }
+  { t[n] = $1; m[n] = $2 / 1024; n++ }
+  END {
+    if (n < 4) { print "saccade soak: too few samples"; exit 1 }
+    first = int(n / 4)
+    for (i = first; i < n; i++) { k++; st += t[i]; sm += m[i]; stt += t[i] * t[i]; stm += t[i] * m[i] }
+    slope = (k * stm - st * sm) / (k * stt - st * st)          # MB per second
+    day_s = 2.6e6 / 30
+    printf "saccade soak: %d min, RSS %.1f MB at %d s, %.1f MB at the end (%d s); fit from %d s: %+.2f MB/hour, %+.1f MB over a day-equivalent (2.6 M frames at 30 Hz)\n", minutes, m[first], t[first], m[n-1], t[n-1], t[first], slope * 3600, slope * day_s
+    if (last != "") print "saccade soak: last status: " last
+  }' "$out/memory.csv"
+if grep -q "LeakSanitizer" "$out/saccaded.log"; then
+  grep -A30 "LeakSanitizer" "$out/saccaded.log" | head -60 >&2
+  echo "saccade soak: LeakSanitizer reported leaks (above, whole log in $out/saccaded.log)" >&2
+  exit 1
+fi
+if [ "$status" -ne 0 ]; then
+  tail -20 "$out/saccaded.log" >&2
+  echo "saccade soak: saccaded exited $status after SIGTERM" >&2
+  exit 1
+fi
+echo "saccade soak: no leak reported at exit, no sanitizer report" >&2
