@@ -28,15 +28,20 @@ namespace {
 
 // Reads any PCD encoding into a blob; false with "PATH: reason" when missing, unreadable,
 // corrupt, lying about its size, or without float x/y/z (CheckPcdFile).
-bool ReadBlob(const std::string& path, pcl::PCLPointCloud2* blob, std::string* error) {
+// The VIEWPOINT (the sensor's pose when the cloud was taken) comes back in `origin` and
+// `orientation`: normals are turned towards the origin, so a model saved with its capture's
+// viewpoint must be loaded with it.
+bool ReadBlob(const std::string& path, pcl::PCLPointCloud2* blob, Eigen::Vector4f* origin,
+              Eigen::Quaternionf* orientation, std::string* error) {
   QuietPcl();
   // PCL's reader trusts what it reads: nothing reaches it that has not been checked whole.
   PcdHeader header;
   if (!CheckPcdFile(path, &header, error)) return false;
   pcl::PCDReader reader;
   int result = -1;
+  int version = 0;
   try {
-    result = reader.read(path, *blob);
+    result = reader.read(path, *blob, *origin, *orientation, version);
   } catch (const std::exception& e) {
     return Fail(error, path + ": not a readable PCD file (" + e.what() + ")");
   }
@@ -51,21 +56,30 @@ bool ReadBlob(const std::string& path, pcl::PCLPointCloud2* blob, std::string* e
 
 std::optional<Cloud> LoadCloud(const std::string& path, std::string* error) {
   pcl::PCLPointCloud2 blob;
-  if (!ReadBlob(path, &blob, error)) return std::nullopt;
   Cloud cloud;
+  if (!ReadBlob(path, &blob, &cloud.sensor_origin_, &cloud.sensor_orientation_, error))
+    return std::nullopt;
+  const Eigen::Vector4f origin = cloud.sensor_origin_;
+  const Eigen::Quaternionf orientation = cloud.sensor_orientation_;
   pcl::fromPCLPointCloud2(blob, cloud);
+  cloud.sensor_origin_ = origin;
+  cloud.sensor_orientation_ = orientation;
   return cloud;
 }
 
 std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::string* error) {
   pcl::PCLPointCloud2 blob;
-  if (!ReadBlob(path, &blob, error)) return std::nullopt;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  if (!ReadBlob(path, &blob, &origin, &orientation, error)) return std::nullopt;
   if (pcl::getFieldIndex(blob, "label") < 0) {
     Fail(error, path + ": PCD has no label field");
     return std::nullopt;
   }
   LabelledCloud out;
   pcl::fromPCLPointCloud2(blob, out.cloud);
+  out.cloud.sensor_origin_ = origin;
+  out.cloud.sensor_orientation_ = orientation;
   pcl::PointCloud<pcl::Label> labels;
   pcl::fromPCLPointCloud2(blob, labels);
   out.labels.reserve(labels.size());
@@ -85,7 +99,8 @@ bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error) 
   pcl::toPCLPointCloud2(cloud, blob);
   std::ostringstream encoded;
   pcl::PCDWriter writer;
-  if (writer.writeBinaryCompressed(encoded, blob) < 0)
+  if (writer.writeBinaryCompressed(encoded, blob, cloud.sensor_origin_,
+                                   cloud.sensor_orientation_) < 0)
     return Fail(error, path + ": cannot encode the cloud as a PCD file");
   const std::string bytes = encoded.str();
   const std::string part = path + ".part";

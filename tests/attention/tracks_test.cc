@@ -99,6 +99,29 @@ TEST(TrackSet, AFoundObjectIsHeldByTrackingAloneUntilItsRecheck) {
   EXPECT_EQ(tracked_alone, 4);
 }
 
+// A source whose clock jumps (a replugged camera restarts its clock, a recording loops, a
+// clock steps by an hour): the motion prediction is bounded (at most three steps of the last
+// motion ahead, none backwards), so a held object stays held where it is, its pose finite.
+TEST(TrackSet, TimestampsThatJumpBackForwardOrStandStillKeepTheTrackWhereTheObjectIs) {
+  const Demo& d = TheDemo();
+  TrackSet tracks(TrackingOptions{});
+  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  const double times[] = {-100.0, 3600.0, 3600.0, 0.5, 1e9, 1e9 + 1.0 / 30};
+  std::int64_t seq = 2;
+  for (double t : times) {
+    TrackFrame f = d.Frame(seq++, d.demo.scene.cloud, false);
+    f.time_s = t;
+    const std::vector<Detection> out = tracks.Update(f, d.Models(), {}, nullptr);
+    ASSERT_EQ(out.size(), 1u) << "time " << t;
+    EXPECT_TRUE(out[0].model_to_scene.allFinite()) << "time " << t;
+    EXPECT_EQ(out[0].track_state, TrackState::kTracking) << "time " << t;
+    const PoseError e =
+        ComparePoses(out[0].model_to_scene, d.demo.truth.matrix(), d.model->centroid());
+    EXPECT_LT(e.translation_m, 0.003) << "time " << t;
+  }
+}
+
 TEST(TrackSet, ATrackThatLosesItsObjectIsLostOnThatFrameThenSearchingAndKeepsItsId) {
   const Demo& d = TheDemo();
   TrackSet tracks(TrackingOptions{});

@@ -442,15 +442,21 @@ TEST(Saccaded, AModelFileRemovedBeforeAReloadKeepsTheLoadedModelTracking) {
   ASSERT_TRUE(saccade::SaveCloud(model, saccade::SyntheticTargetModel(1), &error)) << error;
   const std::string config = box.Path("saccaded.yaml");
   fs::copy_file(kSourceDir + "/configs/demo.yaml", config);
-  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 1\n";
+  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 1\nservice:\n  summary: line\n";
   Child daemon = Spawn({kSaccaded, "--config", config, "--model", model, "--source",
                         "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
                        box.Path("out"), box.Path("err"));
   ASSERT_TRUE(watch.WaitForFixation(
-      [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::TRACKING; }));
+      [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::TRACKING; }))
+      << ReadFile(box.Path("err")) << ReadFile(box.Path("out"));
 
+  // The file goes, and the reload changes a recognition option: the models must be described
+  // again, from their files.
   const std::string kept = box.Path("kept.pcd");
   fs::rename(model, kept);
+  std::string text = ReadFile(config);
+  text.replace(text.find("hough_threshold: 15"), 19, "hough_threshold: 16");
+  std::ofstream(config) << text;
   daemon.Signal(SIGHUP);
   EXPECT_TRUE(WaitFor(
       [&] { return ReadFile(box.Path("err")).find("reload failed") != std::string::npos; }));
@@ -466,6 +472,39 @@ TEST(Saccaded, AModelFileRemovedBeforeAReloadKeepsTheLoadedModelTracking) {
       [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::TRACKING; }));
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
+}
+
+// A source whose frames change size from one to the next (a driver switching modes, a folder
+// of mixed captures): 64x48, 320x240 and 160x120 organized frames, one after the other. Each is
+// processed, none stops the daemon, and it loops over them until told to stop.
+TEST(Saccaded, FramesThatChangeSizeFromOneToTheNextAreEachProcessed) {
+  Sandbox box;
+  StatusWatch watch(box.url);
+  const std::string frames = box.Path("frames");
+  fs::create_directories(frames);
+  auto wall = [](int width, int height) {  // a wall 1 m away, seen by a 525 px camera
+    saccade::Cloud cloud(width, height);
+    for (int v = 0; v < height; ++v)
+      for (int u = 0; u < width; ++u) {
+        saccade::PointT& p = cloud[static_cast<std::size_t>(v * width + u)];
+        p.x = (u - width / 2) / 525.0f, p.y = (v - height / 2) / 525.0f, p.z = 1.0f;
+      }
+    return cloud;
+  };
+  std::string error;
+  ASSERT_TRUE(saccade::SaveCloud(frames + "/1.pcd", wall(64, 48), &error)) << error;
+  ASSERT_TRUE(saccade::SaveCloud(frames + "/2.pcd", wall(320, 240), &error)) << error;
+  ASSERT_TRUE(saccade::SaveCloud(frames + "/3.pcd", wall(160, 120), &error)) << error;
+  const std::string config = box.Path("saccaded.yaml");
+  fs::copy_file(kSourceDir + "/configs/demo.yaml", config);
+  Child daemon = Spawn({kSaccaded, "--config", config, "--source",
+                        "pcd:" + frames + "?loop=1&rate=30", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"));
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed >= 9; }))
+      << ReadFile(box.Path("err"));
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
+  EXPECT_EQ(ReadFile(box.Path("err")).find("error"), std::string::npos) << ReadFile(box.Path("err"));
 }
 
 // Signals from outside that once broke it: a SIGUSR2 ended its signal handling (SIGTERM was

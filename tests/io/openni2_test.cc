@@ -145,5 +145,28 @@ TEST_F(OpenNI2Test, ASilentDeviceIsReopenedAndFramesResume) {
   EXPECT_EQ(source->Stats().state, "streaming");
 }
 
+// A camera that goes and comes back many times (a loose cable): every time it falls silent
+// it is reopened, and frames resume each time, in order of the device's images.
+TEST_F(OpenNI2Test, ADeviceThatGoesSilentFiveTimesIsReopenedEachTime) {
+  setenv("SACCADE_VIRTUAL_DEVICE_STALL_AFTER", "3", 1);  // every opened stream, not only the first
+  std::string error;
+  auto source = OpenSource("openni2://", &error);
+  ASSERT_TRUE(source) << error;
+  Frame f;
+  int frames = 0;
+  while (source->Stats().reconnects < 5 && frames < 40) {
+    ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
+    ASSERT_GE(ImageOf(f), 0);
+    ++frames;
+  }
+  unsetenv("SACCADE_VIRTUAL_DEVICE_STALL_AFTER");
+  EXPECT_EQ(source->Stats().reconnects, 5u);
+  // At most three frames a connection: six connections gave every frame read.
+  EXPECT_LE(frames, 18);
+  EXPECT_GE(frames, 5);
+  ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
+  EXPECT_EQ(source->Stats().state, "streaming");
+}
+
 }  // namespace
 }  // namespace saccade
