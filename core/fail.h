@@ -6,9 +6,32 @@
 
 namespace saccade {
 
-/// Sets *error (when error is not null) to `message` and returns false.
+/// `text` as one printable line: each control character (a newline, a tab, a NUL that came
+/// from a file or a message and is echoed in an error) is written as \n, \t or \xNN.
+inline std::string OneLine(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u != 0x7f) {
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else {
+      const char* hex = "0123456789abcdef";
+      out += "\\x";
+      out += hex[u >> 4];
+      out += hex[u & 0xf];
+    }
+  }
+  return out;
+}
+
+/// Sets *error (when error is not null) to `message`, made one line, and returns false.
 inline bool Fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
+  if (error) *error = OneLine(message);
   return false;
 }
 

@@ -1,6 +1,7 @@
 #include "io/fakenect_dump.h"
 
 #include "core/fail.h"
+#include "io/text.h"
 
 #include <libfreenect.h>
 
@@ -27,7 +28,7 @@ std::size_t BytesOf(char type) { return type == 'd' ? kDepthBytes : kColourBytes
 bool CheckFakenectDump(const std::string& dir, int* depth_frames, std::string* error) {
   const std::string index_path = (fs::path(dir) / "INDEX.txt").string();
   std::ifstream index(index_path);
-  if (!fs::is_directory(dir)) return Fail(error, dir + ": no such folder (a fakenect dump)");
+  if (!IsDirectory(dir)) return Fail(error, dir + ": no such folder (a fakenect dump)");
   if (!index) return Fail(error, index_path + ": cannot open: not a fakenect dump");
   *depth_frames = 0;
   int colour_frames = 0;
@@ -45,7 +46,7 @@ bool CheckFakenectDump(const std::string& dir, int* depth_frames, std::string* e
     const fs::path file = fs::path(dir) / line;
     std::error_code ec;
     const auto size = fs::file_size(file, ec);
-    if (ec || !fs::is_regular_file(file))
+    if (ec || !IsRegularFile(file.string()))
       return Fail(error, file.string() + ": listed in INDEX.txt but cannot be read");
     if (type == 'a') {  // fakenect reads it whole; an empty one ends its replay there
       if (size != sizeof(freenect_raw_tilt_state))

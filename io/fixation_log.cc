@@ -151,6 +151,7 @@ bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
   const auto size = static_cast<std::uint64_t>(in.tellg());
   std::uint64_t at = 0;
   std::vector<unsigned char> header(kEventHeader), body;
+  bool skipping = false;  // in the bytes of an event already counted as skipped
   while (at + kEventHeader <= size) {
     in.seekg(static_cast<std::streamoff>(at));
     if (!in.read(reinterpret_cast<char*>(header.data()), kEventHeader)) break;
@@ -158,18 +159,18 @@ bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
     const std::uint32_t data_len = BigEndian32(&header[24]);
     const std::uint64_t left = size - at - kEventHeader;
     const bool sync = BigEndian32(&header[0]) == kLogSync;
-    if (sync && channel_len >= 1 && channel_len <= kMaxChannel && channel_len <= left &&
+    if (!sync || channel_len == 0 || channel_len > kMaxChannel || channel_len > left ||
         data_len > left - channel_len) {
-      ++stats->skipped;  // the last event, cut short (the logger was killed while writing)
-      at = size;
-      break;
-    }
-    if (!sync || channel_len == 0 || channel_len > kMaxChannel || channel_len > left) {
-      // Not an event here: count it once and look for the next sync word, byte by byte.
-      if (sync) ++stats->skipped;
+      // Not an event here (corrupt, or the last one cut short when the logger was killed):
+      // count it once and look for the next sync word, byte by byte.
+      if (sync) {
+        ++stats->skipped;
+        skipping = true;
+      }
       ++at;
       continue;
     }
+    skipping = false;
     body.resize(channel_len + data_len);
     if (!in.read(reinterpret_cast<char*>(body.data()), static_cast<std::streamsize>(body.size())))
       break;
@@ -183,7 +184,7 @@ bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
       ++stats->skipped;
     }
   }
-  if (at < size) ++stats->skipped;  // a last event shorter than its header
+  if (at < size && !skipping) ++stats->skipped;  // a last event cut inside its header
   return true;
 }
 

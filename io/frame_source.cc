@@ -16,6 +16,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <thread>
@@ -161,7 +162,7 @@ std::optional<std::vector<std::optional<GroundTruth>>> TruthBeside(const std::st
                                                                    std::string* error) {
   std::vector<std::optional<GroundTruth>> truth(n);
   const std::string path = (fs::path(dir) / kTruthFileName).string();
-  if (!fs::exists(path)) return truth;
+  if (!PathExists(path)) return truth;
   std::vector<TruthRow> rows;
   if (!ReadTruthFile(path, &rows, error)) return std::nullopt;
   for (std::size_t i = 0; i < rows.size() && i < n; ++i) truth[i] = rows[i].truth;
@@ -342,7 +343,8 @@ bool OptionBool(const SourceSpec& spec, const std::string& key, bool* out, std::
 
 bool OnlyOptions(const SourceSpec& spec, std::initializer_list<const char*> allowed,
                  std::string* error) {
-  for (const auto& [key, value] : spec.options) {
+  for (const auto& option : spec.options) {
+    const std::string& key = option.first;  // a named copy: C++17 lambdas cannot capture a binding
     if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
       return Fail(error, "source '" + SpecText(spec) + "': unknown option '" + key + "'");
   }
@@ -359,7 +361,7 @@ std::unique_ptr<FrameSource> OpenFiles(const SourceSpec& spec, std::string* erro
     Fail(error, "source 'pcd:" + spec.target + "': option 'intrinsics' is for depth: sources");
     return nullptr;
   }
-  if (!fs::is_directory(spec.target)) {
+  if (!IsDirectory(spec.target)) {
     Fail(error, spec.target + ": no such folder (source '" + spec.kind + ":" + spec.target + "')");
     return nullptr;
   }
@@ -396,7 +398,7 @@ std::unique_ptr<FrameSource> OpenSynthetic(const SourceSpec& spec, std::string* 
   if (auto preset = ScenarioPreset(spec.target)) {
     scenario = *preset;
   } else if (EndsWith(spec.target, ".yaml") || EndsWith(spec.target, ".yml") ||
-             fs::exists(spec.target)) {
+             PathExists(spec.target)) {
     if (!LoadScenario(spec.target, &scenario, error)) return nullptr;
   } else {
     std::string names;
@@ -508,6 +510,18 @@ std::optional<Cloud> LoadCaptureModel(const std::string& text, std::string* erro
 }
 
 std::optional<SourceSpec> ParseSourceSpec(const std::string& text, std::string* error) {
+  // A spec is one line of printable text; a control character (a newline from a script, a NUL)
+  // is refused before the spec is echoed in any message.
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 || c == 0x7f) {
+      char code[8];
+      std::snprintf(code, sizeof code, "0x%02x", c);
+      Fail(error, std::string("source: a control character (") + code + ") at byte " +
+                      std::to_string(i) + " of the spec; a spec is one line of text");
+      return std::nullopt;
+    }
+  }
   SourceSpec spec;
   std::string body = text, query;
   const auto q = text.find('?');

@@ -1,6 +1,7 @@
 #include "io/frame_writer.h"
 
 #include "core/fail.h"
+#include "io/text.h"
 #include "io/cloud_io.h"
 #include "io/images.h"
 #include "io/truth_file.h"
@@ -29,7 +30,7 @@ std::unique_ptr<FrameWriter> FrameWriter::Open(const std::string& dir, Format fo
                                                std::string* error) {
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir)) {
+  if (ec || !IsDirectory(dir)) {
     Fail(error, dir + ": cannot create output folder" + (ec ? ": " + ec.message() : ""));
     return nullptr;
   }

@@ -186,7 +186,7 @@ std::string RgbPartner(const std::string& depth_path) {
   if (at == std::string::npos) return "";
   name.replace(at, 5, "rgb");
   const std::filesystem::path partner = path.parent_path() / name;
-  return std::filesystem::exists(partner) ? partner.string() : "";
+  return PathExists(partner.string()) ? partner.string() : "";
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #   FUZZ_OUT=DIR                              where binaries, logs and grown corpora go
 #   FUZZ_SECONDS=N                            each target's time
 #   FUZZ_INSTALL=0                            never install clang (the short run in make test)
+#   FUZZ_SEED=N                               libFuzzer's seed (the short run: 1, repeatable)
 #
 # The code under test is compiled here with coverage instrumentation; the rest of Saccade it
 # needs comes from BUILD_DIR's libraries, linked as saccaded is (its link line), so a target
@@ -55,27 +56,39 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
 declare -A sources=(
   [pcd]="tests/fuzz/pcd_check_fuzz.cc io/pcd_check.cc"
   [command]="tests/fuzz/command_fuzz.cc io/bus.cc io/log.cc"
-  [config]="tests/fuzz/config_fuzz.cc io/config.cc daemon/settings.cc io/truth_file.cc io/images.cc"
+  [config]="tests/fuzz/config_fuzz.cc io/config.cc daemon/settings.cc io/truth_file.cc io/images.cc io/fixation_log.cc"
   [image]="tests/fuzz/image_fuzz.cc io/images.cc"
   [source]="tests/fuzz/source_fuzz.cc io/frame_source.cc"
 )
+# What uninstrumented libraries (OpenNI2's drivers) keep until exit is not ours to report.
+export LSAN_OPTIONS="suppressions=$root/scripts/sanitizers/lsan.supp:print_suppressions=0"
+launcher=$(command -v ccache || true)
 mkdir -p "$out"
 for target in "${targets[@]}"; do
+  : > "$out/$target.build.log"
   [ -n "${sources[$target]:-}" ] || { echo "saccade fuzz: no target '$target'" >&2; exit 2; }
   echo "saccade fuzz: building $target" >&2
-  src=()
-  for s in ${sources[$target]}; do src+=("$root/$s"); done
-  # From saccaded's folder, where its link line's relative library paths hold.
-  (cd "$build_dir/daemon" && clang++-14 "${flags[@]}" "${src[@]}" "${libs[@]}" \
-     -o "$out/$target-fuzz" 2>"$out/$target.build.log") ||
-    { cat "$out/$target.build.log" >&2; echo "saccade fuzz: $target did not build" >&2; exit 1; }
+  # One object a source (through ccache when present, as the project's build), then linked
+  # from saccaded's folder, where its link line's relative library paths hold.
+  objects=()
+  mkdir -p "$out/obj/$target"
+  for s in ${sources[$target]}; do
+    o="$out/obj/$target/$(basename "$s" .cc).o"
+    $launcher clang++-14 "${flags[@]}" -c "$root/$s" -o "$o" 2>>"$out/$target.build.log" ||
+      { cat "$out/$target.build.log" >&2; echo "saccade fuzz: $target did not build" >&2; exit 1; }
+    objects+=("$o")
+  done
+  (cd "$build_dir/daemon" && clang++-14 "${flags[@]}" "${objects[@]}" "${libs[@]}" \
+     -o "$out/$target-fuzz" 2>>"$out/$target.build.log") ||
+    { cat "$out/$target.build.log" >&2; echo "saccade fuzz: $target did not link" >&2; exit 1; }
 done
 for target in "${targets[@]}"; do
   mkdir -p "$out/$target"
   cp -n "$root/tests/fuzz/corpus/$target/"* "$out/$target/" 2>/dev/null || true
   echo "saccade fuzz: $target for $seconds s" >&2
   (cd "$out" && "./$target-fuzz" "$target" -max_total_time="$seconds" -max_len=4096 \
-     -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 2>"$target.log") ||
+     -rss_limit_mb=2048 -timeout=10 -seed="${FUZZ_SEED:-0}" -print_final_stats=1 \
+     2>"$target.log") ||
     { tail -30 "$out/$target.log"; echo "saccade fuzz: $target found a crash (above)" >&2; exit 1; }
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$out/$target.log" | sed "s/^/  $target: /"
 done

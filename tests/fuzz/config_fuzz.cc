@@ -1,23 +1,27 @@
 // libFuzzer target: every YAML and text loader on arbitrary bytes. The first byte picks the
 // loader (the daemon's configuration, a recognition configuration, an evaluation's
 // configurations, a cases file, a scenario, a capture sequence, an intrinsics file, a colour
-// camera file, a truth file); the rest is the file. Each must load or refuse with one line.
+// camera file, a truth file, an lcm-logger log of fixations); the rest is the file. Each must
+// load or refuse with one line.
 #include "daemon/settings.h"
 #include "io/config.h"
+#include "io/fixation_log.h"
 #include "io/images.h"
 #include "io/truth_file.h"
 #include "tests/fuzz/fuzz_file.h"
 
 #include <cstddef>
 #include <cstdint>
+#include <sstream>
 #include <string>
 #include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace saccade;
   if (size == 0) return 0;
-  const int which = data[0] % 9;
-  const std::string path = fuzz::WriteInput(data + 1, size - 1, which == 8 ? "csv" : "yaml");
+  const int which = data[0] % 10;
+  const std::string path = fuzz::WriteInput(data + 1, size - 1,
+                                            which == 8 ? "csv" : which == 9 ? "lcmlog" : "yaml");
   std::string error;
   bool ok = false;
   switch (which) {
@@ -61,9 +65,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       ok = ReadColourCameraFile(path, &colour, &error);
       break;
     }
-    default: {
+    case 8: {
       std::vector<TruthRow> rows;
       ok = ReadTruthFile(path, &rows, &error);
+      break;
+    }
+    default: {
+      std::ostringstream out;
+      FixationWriter writer(out, FixationWriter::Format::kJsonl);
+      FixationLogStats stats;
+      ok = ConvertFixationLog(path, "SACCADE_FIXATION", &writer, &stats, &error);
       break;
     }
   }
