@@ -99,8 +99,8 @@ bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error) 
   pcl::toPCLPointCloud2(cloud, blob);
   std::ostringstream encoded;
   pcl::PCDWriter writer;
-  if (writer.writeBinaryCompressed(encoded, blob, cloud.sensor_origin_,
-                                   cloud.sensor_orientation_) < 0)
+  if (writer.writeBinaryCompressed(encoded, blob, cloud.sensor_origin_, cloud.sensor_orientation_) <
+      0)
     return Fail(error, path + ": cannot encode the cloud as a PCD file");
   const std::string bytes = encoded.str();
   const std::string part = path + ".part";

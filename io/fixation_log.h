@@ -49,8 +49,8 @@ bool CheckLcmLog(const std::string& path, std::string* error);
 
 /// Writes every message of `channel` in an lcm-logger log (CheckLcmLog first). Each event's
 /// lengths are checked against the file before it is read; a corrupt stretch is skipped to the
-/// next event, a truncated last event ends the log; both are counted in `stats->skipped`. False with `error` when the log
-/// cannot be read.
+/// next event, a truncated last event ends the log; both are counted in `stats->skipped`. False
+/// with `error` when the log cannot be read.
 bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
                         FixationWriter* writer, FixationLogStats* stats, std::string* error);
 

@@ -1,9 +1,9 @@
 #include "io/frame_writer.h"
 
 #include "core/fail.h"
-#include "io/text.h"
 #include "io/cloud_io.h"
 #include "io/images.h"
+#include "io/text.h"
 #include "io/truth_file.h"
 
 #include <cerrno>
@@ -86,8 +86,8 @@ bool FrameWriter::Write(const Frame& frame, std::string* error) {
     truth_ << TruthCsvRow({frame.sequence, frame.capture_utime, *frame.truth}) << "\n";
     truth_.flush();
     if (!truth_) {
-      return Fail(error, (dir / kTruthFileName).string() + ": cannot write (" +
-                             std::strerror(errno) + ")");
+      return Fail(
+          error, (dir / kTruthFileName).string() + ": cannot write (" + std::strerror(errno) + ")");
     }
   }
   ++count_;

@@ -56,7 +56,8 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
 declare -A sources=(
   [pcd]="tests/fuzz/pcd_check_fuzz.cc io/pcd_check.cc"
   [command]="tests/fuzz/command_fuzz.cc io/bus.cc io/log.cc"
-  [config]="tests/fuzz/config_fuzz.cc io/config.cc daemon/settings.cc io/truth_file.cc io/images.cc io/fixation_log.cc"
+  [config]="tests/fuzz/config_fuzz.cc io/config.cc daemon/settings.cc io/truth_file.cc
+            io/images.cc io/fixation_log.cc"
   [image]="tests/fuzz/image_fuzz.cc io/images.cc"
   [source]="tests/fuzz/source_fuzz.cc io/frame_source.cc"
 )
@@ -90,6 +91,7 @@ for target in "${targets[@]}"; do
      -rss_limit_mb=2048 -timeout=10 -seed="${FUZZ_SEED:-0}" -print_final_stats=1 \
      2>"$target.log") ||
     { tail -30 "$out/$target.log"; echo "saccade fuzz: $target found a crash (above)" >&2; exit 1; }
-  grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$out/$target.log" | sed "s/^/  $target: /"
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$out/$target.log" |
+    sed "s/^/  $target: /"
 done
 echo "saccade fuzz: no crash in ${targets[*]}" >&2

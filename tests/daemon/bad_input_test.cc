@@ -32,11 +32,11 @@ struct File {
 };
 
 struct BadInput {
-  std::string name;          // the test's name
-  std::vector<File> files;   // written into the case's folder $D before the run
-  std::string command;       // saccade's (or, starting with "saccaded ", saccaded's) arguments
-  int code;                  // the exit code expected
-  std::string says;          // a part of the one line expected on stderr ($D: the folder)
+  std::string name;         // the test's name
+  std::vector<File> files;  // written into the case's folder $D before the run
+  std::string command;      // saccade's (or, starting with "saccaded ", saccaded's) arguments
+  int code;                 // the exit code expected
+  std::string says;         // a part of the one line expected on stderr ($D: the folder)
 };
 
 // ---- file contents ----------------------------------------------------------------------
@@ -46,8 +46,8 @@ std::string Pcd(const std::string& fields, const std::string& size, const std::s
                 const std::string& body) {
   const std::string n = std::to_string(points);
   return "# .PCD v0.7\nVERSION 0.7\nFIELDS " + fields + "\nSIZE " + size + "\nTYPE " + type +
-         "\nCOUNT " + count + "\nWIDTH " + n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " +
-         n + "\nDATA " + data_kind + "\n" + body;
+         "\nCOUNT " + count + "\nWIDTH " + n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n +
+         "\nDATA " + data_kind + "\n" + body;
 }
 
 // A good little ASCII cloud: three points of a 1 cm triangle.
@@ -103,14 +103,12 @@ std::vector<BadInput> Corpus() {
         "$D/s.pcd: not a PCD file");
   scene("StartsWithAUtf8Bom", kBom + good, "$D/s.pcd: not a PCD file");
   scene("HugeWidth",
-        Pcd("x y z", "4 4 4", "F F F", "1 1 1", 3, "ascii", "0 0 1\n").replace(
-            good.find("WIDTH 3"), 7, "WIDTH 4000000000"),
+        Pcd("x y z", "4 4 4", "F F F", "1 1 1", 3, "ascii", "0 0 1\n")
+            .replace(good.find("WIDTH 3"), 7, "WIDTH 4000000000"),
         "$D/s.pcd");
-  scene("DoubleXyz", Pcd("x y z", "8 8 8", "F F F", "1 1 1", 1, "ascii", "0 0 1\n"),
-        "$D/s.pcd");
+  scene("DoubleXyz", Pcd("x y z", "8 8 8", "F F F", "1 1 1", 1, "ascii", "0 0 1\n"), "$D/s.pcd");
   scene("IntXyz", Pcd("x y z", "4 4 4", "I I I", "1 1 1", 1, "ascii", "0 0 1\n"), "$D/s.pcd");
-  scene("UnknownType", Pcd("x y z", "4 4 4", "F Q F", "1 1 1", 1, "ascii", "0 0 1\n"),
-        "$D/s.pcd");
+  scene("UnknownType", Pcd("x y z", "4 4 4", "F Q F", "1 1 1", 1, "ascii", "0 0 1\n"), "$D/s.pcd");
   scene("CountThree", Pcd("x y z", "4 4 4", "F F F", "3 1 1", 1, "ascii", "0 0 0 0 1\n"),
         "$D/s.pcd");
   scene("NegativeSize", Pcd("x y z", "-4 4 4", "F F F", "1 1 1", 1, "ascii", "0 0 1\n"),
@@ -135,8 +133,8 @@ std::vector<BadInput> Corpus() {
   model("Empty", "", "$D/m.pcd: empty file, not a PCD file");
   model("IsText", "hello, world\n", "$D/m.pcd: not a PCD file");
   model("WidthTimesHeightDisagree",
-        Pcd("x y z", "4 4 4", "F F F", "1 1 1", 3, "ascii", "0 0 1\n").replace(
-            good.find("HEIGHT 1"), 8, "HEIGHT 2"),
+        Pcd("x y z", "4 4 4", "F F F", "1 1 1", 3, "ascii", "0 0 1\n")
+            .replace(good.find("HEIGHT 1"), 8, "HEIGHT 2"),
         "$D/m.pcd");
   model("IsAFolder", {}, "$D/m.pcd");
   c.back().files = {{"m.pcd/", ""}, {"s.pcd", good}};
@@ -167,19 +165,18 @@ std::vector<BadInput> Corpus() {
   add("MissingScene", model_ok, "recognize --model $D/m.pcd --plain", 2, "missing --scene");
   add("FoveaOfTwoNumbers", model_ok, "recognize --model $D/m.pcd --scene $D/m.pcd --fovea 1,2", 2,
       "--fovea");
-  add("FoveaBeyondFloat", model_ok,
-      "recognize --model $D/m.pcd --scene $D/m.pcd --fovea 1e39,0,0", 2, "--fovea");
+  add("FoveaBeyondFloat", model_ok, "recognize --model $D/m.pcd --scene $D/m.pcd --fovea 1e39,0,0",
+      2, "--fovea");
   add("FoveaNaN", model_ok, "recognize --model $D/m.pcd --scene $D/m.pcd --fovea nan,0,1", 2,
       "--fovea");
   add("FoveaWords", model_ok, "recognize --model $D/m.pcd --scene $D/m.pcd --fovea a,b,c", 2,
       "--fovea");
-  add("ThreadsZero", model_ok, "recognize --model $D/m.pcd --scene $D/m.pcd --plain --threads 0",
-      2, "--threads");
-  add("ThreadsWord", model_ok,
-      "recognize --model $D/m.pcd --scene $D/m.pcd --plain --threads many", 2, "--threads");
-  add("ThreadsHuge", model_ok,
-      "recognize --model $D/m.pcd --scene $D/m.pcd --plain --threads 99999999999", 2,
+  add("ThreadsZero", model_ok, "recognize --model $D/m.pcd --scene $D/m.pcd --plain --threads 0", 2,
       "--threads");
+  add("ThreadsWord", model_ok, "recognize --model $D/m.pcd --scene $D/m.pcd --plain --threads many",
+      2, "--threads");
+  add("ThreadsHuge", model_ok,
+      "recognize --model $D/m.pcd --scene $D/m.pcd --plain --threads 99999999999", 2, "--threads");
   add("BenchFramesZero", model_ok,
       "bench --model $D/m.pcd --scene $D/m.pcd --fovea 0,0,1 --frames 0", 2, "--frames");
   add("DemoSeedHuge", {}, "demo --seed 1e20", 2, "--seed");
@@ -198,12 +195,11 @@ std::vector<BadInput> Corpus() {
       "segment --scene $D/m.pcd --out $D/o.pcd --plane-fraction 2", 2, "--plane-fraction");
   add("SegmentPlaneDistanceNaN", model_ok,
       "segment --scene $D/m.pcd --out $D/o.pcd --plane-distance nan", 2, "--plane-distance");
-  add("SegmentMinPointsZero", model_ok, "segment --scene $D/m.pcd --out $D/o.pcd --min-points 0",
-      2, "--min-points");
+  add("SegmentMinPointsZero", model_ok, "segment --scene $D/m.pcd --out $D/o.pcd --min-points 0", 2,
+      "--min-points");
   add("SegmentPickUnknown", model_ok, "segment --scene $D/m.pcd --out $D/o.pcd --pick biggest", 2,
       "--pick");
-  add("SegmentSeedWord", model_ok, "segment --scene $D/m.pcd --out $D/o.pcd --seed x", 2,
-      "--seed");
+  add("SegmentSeedWord", model_ok, "segment --scene $D/m.pcd --out $D/o.pcd --seed x", 2, "--seed");
   add("EvalWithoutConfigs", model_ok, "eval --dataset $D/m.pcd --model $D/m.pcd", 2,
       "missing --configs");
   add("EvalRepeatZero", {{"m.pcd", good}, {"c.yaml", kConfigs}},
@@ -268,18 +264,22 @@ std::vector<BadInput> Corpus() {
          "$D/in/0001.pcd: not a PCD file");
   source("DepthFolderWithoutImages", {{"in/", ""}, {"in/notes.txt", "x"}}, "depth:$D/in",
          "no depth image");
-  source("DepthWithoutIntrinsics", {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)}},
-         "depth:$D/in", "$D/in/intrinsics.yaml");
+  source("DepthWithoutIntrinsics",
+         {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)}}, "depth:$D/in",
+         "$D/in/intrinsics.yaml");
   source("DepthEightBit",
-         {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_GRAY, 4, 3)},
+         {{"in/", ""},
+          {"in/depth_0.png", PngFile(PNG_FORMAT_GRAY, 4, 3)},
           {"in/intrinsics.yaml", kIntrinsics}},
          "depth:$D/in", "must be 16-bit grey");
   source("DepthColour",
-         {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_RGB, 4, 3)},
+         {{"in/", ""},
+          {"in/depth_0.png", PngFile(PNG_FORMAT_RGB, 4, 3)},
           {"in/intrinsics.yaml", kIntrinsics}},
          "depth:$D/in", "must be 16-bit grey");
   source("DepthTruncatedPng",
-         {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3).substr(0, 40)},
+         {{"in/", ""},
+          {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3).substr(0, 40)},
           {"in/intrinsics.yaml", kIntrinsics}},
          "depth:$D/in", "$D/in/depth_0.png");
   source("DepthPngMagicOnly",
@@ -289,32 +289,38 @@ std::vector<BadInput> Corpus() {
          {{"in/", ""}, {"in/depth_0.tiff", "II*\0garbage"}, {"in/intrinsics.yaml", kIntrinsics}},
          "depth:$D/in", "$D/in/depth_0.tiff");
   source("DepthOfAnotherSize",
-         {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 8, 3)},
+         {{"in/", ""},
+          {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 8, 3)},
           {"in/intrinsics.yaml", kIntrinsics}},
          "depth:$D/in", "$D/in/depth_0.png");
   source("IntrinsicsUnknownKey",
-         {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)},
+         {{"in/", ""},
+          {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)},
           {"in/intrinsics.yaml", kIntrinsics + "skew: 0\n"}},
          "depth:$D/in", "skew");
   source("IntrinsicsNegativeFocal",
-         {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)},
+         {{"in/", ""},
+          {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)},
           {"in/intrinsics.yaml", "width: 4\nheight: 3\nfx: -525\nfy: 525\ncx: 2\ncy: 1.5\n"}},
          "depth:$D/in", "fx");
   source("IntrinsicsZeroWidth",
-         {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)},
+         {{"in/", ""},
+          {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)},
           {"in/intrinsics.yaml", "width: 0\nheight: 3\nfx: 525\nfy: 525\ncx: 2\ncy: 1.5\n"}},
          "depth:$D/in", "width");
   source("IntrinsicsMissingFocal",
-         {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)},
+         {{"in/", ""},
+          {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)},
           {"in/intrinsics.yaml", "width: 4\nheight: 3\ncx: 2\ncy: 1.5\n"}},
          "depth:$D/in", "fx");
   source("IntrinsicsNaN",
-         {{"in/", ""}, {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)},
+         {{"in/", ""},
+          {"in/depth_0.png", PngFile(PNG_FORMAT_LINEAR_Y, 4, 3)},
           {"in/intrinsics.yaml", "width: 4\nheight: 3\nfx: nan\nfy: 525\ncx: 2\ncy: 1.5\n"}},
          "depth:$D/in", "line 3");
   source("TruthOfAnotherLength",
-         {{"in/", ""}, {"in/0001.pcd", good}, {"in/truth.csv", "frame,x\n0,1\n1,2\n"}},
-         "pcd:$D/in", "$D/in/truth.csv");
+         {{"in/", ""}, {"in/0001.pcd", good}, {"in/truth.csv", "frame,x\n0,1\n1,2\n"}}, "pcd:$D/in",
+         "$D/in/truth.csv");
   source("TruthNotACsv", {{"in/", ""}, {"in/0001.pcd", good}, {"in/truth.csv", kPngMagic}},
          "pcd:$D/in", "$D/in/truth.csv");
   source("OniMissing", {}, "$D/nothing.oni", "$D/nothing.oni");
@@ -345,8 +351,8 @@ std::vector<BadInput> Corpus() {
   scenario("OccludedFramesNegative", Scenario("occluded_frames: -5\n"), "occluded_frames");
   scenario("UnknownMotionKind", Scenario("target_motion: {kind: teleport}\n"),
            "target_motion.kind");
-  scenario("MotionSpeedNaN", Scenario("target_motion: {kind: linear, velocity_mps: [.nan, 0, 0]}\n"),
-           "velocity");
+  scenario("MotionSpeedNaN",
+           Scenario("target_motion: {kind: linear, velocity_mps: [.nan, 0, 0]}\n"), "velocity");
   scenario("NoiseNegative", Scenario("noise: {sigma_scale: -1}\n"), "noise");
   scenario("ClutterUnknownKind", Scenario("clutter: [{kind: pyramid}]\n"), "kind must be box");
   scenario("ClutterBoxNegative",
@@ -411,7 +417,8 @@ std::vector<BadInput> Corpus() {
         "cases: [{name: a, model: {file: m.pcd, object: -1}, scene: {file: m.pcd, object: 1}}]\n",
         "object");
   cases("SceneMissing",
-        "cases: [{name: a, model: {file: none.pcd, object: 1}, scene: {file: none.pcd, object: 1}}]\n",
+        "cases: [{name: a, model: {file: none.pcd, object: 1}, scene: {file: none.pcd, object: "
+        "1}}]\n",
         "none.pcd");
   cases("UnknownKey",
         "cases: [{name: a, model: {file: m.pcd, object: 1}, scene: {file: m.pcd, object: 1}, "
@@ -478,8 +485,8 @@ TEST_P(BadInputs, OneLineTheRightExitCodeAndNothingWritten) {
   const std::string binary = daemon ? SACCADED_BINARY : SACCADE_BINARY;
   const std::string args = Replace(daemon ? bad.command.substr(9) : bad.command, "$D", dir);
   // No LCM traffic leaves the machine: saccaded, should it start, publishes to a closed URL.
-  const std::string cmd = "LCM_DEFAULT_URL=udpm://239.255.76.67:7699?ttl=0 " + binary + " " +
-                          args + " >" + run + "out 2>" + run + "err </dev/null";
+  const std::string cmd = "LCM_DEFAULT_URL=udpm://239.255.76.67:7699?ttl=0 " + binary + " " + args +
+                          " >" + run + "out 2>" + run + "err </dev/null";
   const int status = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(status)) << cmd << ": killed by signal " << WTERMSIG(status);
   const std::string out = Slurp(run + "out"), err = Slurp(run + "err");

@@ -442,13 +442,15 @@ TEST(Saccaded, AModelFileRemovedBeforeAReloadKeepsTheLoadedModelTracking) {
   ASSERT_TRUE(saccade::SaveCloud(model, saccade::SyntheticTargetModel(1), &error)) << error;
   const std::string config = box.Path("saccaded.yaml");
   fs::copy_file(kSourceDir + "/configs/demo.yaml", config);
-  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 1\nservice:\n  summary: line\n";
+  std::ofstream(config, std::ios::app)
+      << "pipeline:\n  frames_in_flight: 1\nservice:\n  summary: line\n";
   Child daemon = Spawn({kSaccaded, "--config", config, "--model", model, "--source",
                         "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
                        box.Path("out"), box.Path("err"));
-  ASSERT_TRUE(watch.WaitForFixation(
-      [](const saccade::fixation_t& f) { return f.mode == saccade::fixation_t::TRACKING; }))
-      << ReadFile(box.Path("err")) << ReadFile(box.Path("out"));
+  ASSERT_TRUE(watch.WaitForFixation([](const saccade::fixation_t& f) {
+    return f.mode == saccade::fixation_t::TRACKING;
+  })) << ReadFile(box.Path("err"))
+      << ReadFile(box.Path("out"));
 
   // The file goes, and the reload changes a recognition option: the models must be described
   // again, from their files.
@@ -504,7 +506,8 @@ TEST(Saccaded, FramesThatChangeSizeFromOneToTheNextAreEachProcessed) {
       << ReadFile(box.Path("err"));
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
-  EXPECT_EQ(ReadFile(box.Path("err")).find("error"), std::string::npos) << ReadFile(box.Path("err"));
+  EXPECT_EQ(ReadFile(box.Path("err")).find("error"), std::string::npos)
+      << ReadFile(box.Path("err"));
 }
 
 // Signals from outside that once broke it: a SIGUSR2 ended its signal handling (SIGTERM was

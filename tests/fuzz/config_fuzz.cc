@@ -21,7 +21,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size == 0) return 0;
   const int which = data[0] % 10;
   const std::string path = fuzz::WriteInput(data + 1, size - 1,
-                                            which == 8 ? "csv" : which == 9 ? "lcmlog" : "yaml");
+                                            which == 8   ? "csv"
+                                            : which == 9 ? "lcmlog"
+                                                         : "yaml");
   std::string error;
   bool ok = false;
   switch (which) {
