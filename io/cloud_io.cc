@@ -106,14 +106,23 @@ bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error) 
   const std::string part = path + ".part";
   std::FILE* f = std::fopen(part.c_str(), "wb");
   if (!f) return Fail(error, path + ": cannot write PCD file (" + std::strerror(errno) + ")");
+  // Any failing step fails the write; errno says why when the C library set it.
+  bool failed = false;
   int why = 0;
-  if (std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size() || std::fflush(f) != 0)
+  auto step = [&](bool ok) {
+    if (ok || failed) return;
+    failed = true;
     why = errno;
-  if (std::fclose(f) != 0 && why == 0) why = errno;
-  if (why == 0 && std::rename(part.c_str(), path.c_str()) != 0) why = errno;
-  if (why != 0) {
+  };
+  errno = 0;
+  step(std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size());
+  step(std::fflush(f) == 0);
+  step(std::fclose(f) == 0);
+  if (!failed) step(std::rename(part.c_str(), path.c_str()) == 0);
+  if (failed) {
     std::remove(part.c_str());
-    return Fail(error, path + ": cannot write PCD file (" + std::strerror(why) + ")");
+    return Fail(error, path + ": cannot write PCD file (" +
+                           (why != 0 ? std::strerror(why) : "write failed") + ")");
   }
   return true;
 }

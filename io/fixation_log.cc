@@ -8,6 +8,7 @@
 #include <saccade/fixation_t.hpp>
 
 #include <sys/stat.h>
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -137,54 +138,79 @@ bool CheckLcmLog(const std::string& path, std::string* error) {
   if (!S_ISREG(st.st_mode)) return Fail(error, path + ": not a regular file");
   if (st.st_size == 0) return Fail(error, path + ": empty file, not an lcm-logger log");
   std::ifstream in(path, std::ios::binary);
+  if (!in) return Fail(error, path + ": cannot read (" + std::strerror(errno) + ")");
   unsigned char sync[4] = {};
   if (!in.read(reinterpret_cast<char*>(sync), 4) || BigEndian32(sync) != kLogSync)
     return Fail(error, path + ": not an lcm-logger log (it does not start with an event)");
   return true;
 }
 
+namespace {
+
+// The offset of the next sync word's first byte after `from`, or `size` when there is none:
+// read in chunks, not a byte at a time.
+std::uint64_t NextSync(std::ifstream& in, std::uint64_t from, std::uint64_t size) {
+  std::vector<unsigned char> chunk(1 << 16);
+  for (std::uint64_t at = from; at + 4 <= size; at += chunk.size() - 3) {
+    const std::uint64_t n = std::min<std::uint64_t>(chunk.size(), size - at);
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(at));
+    if (!in.read(reinterpret_cast<char*>(chunk.data()), static_cast<std::streamsize>(n)))
+      return size;
+    for (std::uint64_t i = 0; i + 4 <= n; ++i)
+      if (chunk[i] == 0xED && BigEndian32(&chunk[i]) == kLogSync) return at + i;
+    if (n < chunk.size()) break;
+  }
+  return size;
+}
+
+}  // namespace
+
 bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
                         FixationWriter* writer, FixationLogStats* stats, std::string* error) {
   if (!CheckLcmLog(log_path, error)) return false;
   std::ifstream in(log_path, std::ios::binary);
   in.seekg(0, std::ios::end);
-  const auto size = static_cast<std::uint64_t>(in.tellg());
+  const std::streamoff end = in.tellg();
+  if (end < 0) return Fail(error, log_path + ": cannot read (its size is unknown)");
+  const auto size = static_cast<std::uint64_t>(end);
   std::uint64_t at = 0;
   std::vector<unsigned char> header(kEventHeader), body;
-  bool skipping = false;  // in the bytes of an event already counted as skipped
-  while (at + kEventHeader <= size) {
+  while (at < size) {
+    in.clear();
     in.seekg(static_cast<std::streamoff>(at));
-    if (!in.read(reinterpret_cast<char*>(header.data()), kEventHeader)) break;
-    const std::uint32_t channel_len = BigEndian32(&header[20]);
-    const std::uint32_t data_len = BigEndian32(&header[24]);
-    const std::uint64_t left = size - at - kEventHeader;
-    const bool sync = BigEndian32(&header[0]) == kLogSync;
-    if (!sync || channel_len == 0 || channel_len > kMaxChannel || channel_len > left ||
-        data_len > left - channel_len) {
-      // Not an event here (corrupt, or the last one cut short when the logger was killed):
-      // count it once and look for the next sync word, byte by byte.
-      if (sync) {
-        ++stats->skipped;
-        skipping = true;
-      }
-      ++at;
+    // Lengths in 64 bits: a 32-bit sum of a lying data length wraps.
+    const std::uint64_t left = size - at;
+    bool event = left >= kEventHeader &&
+                 in.read(reinterpret_cast<char*>(header.data()), kEventHeader).good() &&
+                 BigEndian32(&header[0]) == kLogSync;
+    const std::uint64_t channel_len = event ? BigEndian32(&header[20]) : 0;
+    const std::uint64_t data_len = event ? BigEndian32(&header[24]) : 0;
+    event = event && channel_len >= 1 && channel_len <= kMaxChannel &&
+            data_len <= std::uint64_t{INT32_MAX} &&  // LCM's field is an int32
+            kEventHeader + channel_len + data_len <= left;
+    if (!event) {
+      // Corrupt, or the last event cut short when the logger was killed: counted once, and
+      // reading goes on at the next sync word.
+      ++stats->skipped;
+      at = NextSync(in, at + 1, size);
       continue;
     }
-    skipping = false;
-    body.resize(channel_len + data_len);
-    if (!in.read(reinterpret_cast<char*>(body.data()), static_cast<std::streamsize>(body.size())))
+    std::string name(channel_len, '\0');
+    in.read(name.data(), static_cast<std::streamsize>(channel_len));
+    at += kEventHeader + channel_len + data_len;
+    if (name != channel) continue;  // other channels' data is not read
+    body.resize(static_cast<std::size_t>(data_len));
+    if (!in.read(reinterpret_cast<char*>(body.data()), static_cast<std::streamsize>(data_len)))
       break;
-    at += kEventHeader + body.size();
-    if (std::string(body.begin(), body.begin() + channel_len) != channel) continue;
     LoggedFixation r;
-    if (DecodeFixation(body.data() + channel_len, data_len, &r)) {
+    if (DecodeFixation(body.data(), body.size(), &r)) {
       writer->Write(r);
       ++stats->written;
     } else {
       ++stats->skipped;
     }
   }
-  if (at < size && !skipping) ++stats->skipped;  // a last event cut inside its header
   return true;
 }
 

@@ -147,11 +147,8 @@ class SequenceSource : public FrameSource {
 // PCD files of a folder, in name order.
 std::vector<std::string> ListPcdFiles(const std::string& dir) {
   std::vector<std::string> out;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir, ec))
-    if (entry.is_regular_file() && EndsWith(entry.path().filename().string(), ".pcd"))
-      out.push_back(entry.path().string());
-  std::sort(out.begin(), out.end());
+  for (const auto& path : RegularFilesIn(dir))
+    if (EndsWith(fs::path(path).filename().string(), ".pcd")) out.push_back(path);
   return out;
 }
 
@@ -319,10 +316,12 @@ bool OptionNumber(const SourceSpec& spec, const std::string& key, double fallbac
 
 // rate=HZ: 0 (as fast as frames come) or 0.01-1000 Hz. A tinier rate would wait for ages
 // between frames (1e-300: for ever), a huge one is no rate.
+// (A scenario's or a sequence's own rate_hz, the fallback, is bounded by its IsValid.)
 bool OptionRate(const SourceSpec& spec, double fallback, double* out, std::string* error) {
   if (!OptionNumber(spec, "rate", fallback, out, error)) return false;
-  if (*out != 0 && (*out < 0.01 || *out > 1000))
-    return Fail(error, "source '" + SpecText(spec) + "': option rate=" + spec.options.at("rate") +
+  const auto given = spec.options.find("rate");
+  if (given != spec.options.end() && *out != 0 && (*out < 0.01 || *out > 1000))
+    return Fail(error, "source '" + SpecText(spec) + "': option rate=" + given->second +
                            " is out of range (0: as fast as frames come, or 0.01-1000 Hz)");
   return true;
 }
@@ -475,8 +474,8 @@ std::unique_ptr<FrameSource> OpenCapture(const SourceSpec& spec, std::string* er
       !OptionNumber(spec, "frames", s.frames, &frames, error) ||
       !OptionBool(spec, "loop", &loop, error))
     return nullptr;
-  if (frames < 1 || frames != std::floor(frames)) {
-    Fail(error, "source 'capture:" + spec.target + "': frames must be a whole number >= 1");
+  if (frames < 1 || frames > 1e7 || frames != std::floor(frames)) {
+    Fail(error, "source 'capture:" + spec.target + "': frames must be a whole number, 1-10000000");
     return nullptr;
   }
   s.frames = static_cast<int>(frames);

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <vector>
 
 namespace saccade {
 
@@ -40,11 +41,32 @@ std::unique_ptr<FrameWriter> FrameWriter::Open(const std::string& dir, Format fo
   return w;
 }
 
+// A frame is written whole or not at all: when a part fails (a full disk), the files already
+// written for it are removed and the truth file is cut back to its last whole row, so that
+// what is left plays back as a recording.
 bool FrameWriter::Write(const Frame& frame, std::string* error) {
   const Cloud& cloud = *frame.cloud;
   const fs::path dir(dir_);
+  std::vector<std::string> written;
+  auto undo = [&] {
+    for (const auto& path : written) std::remove(path.c_str());
+    if (truth_started_) {
+      truth_.close();
+      std::error_code ec;
+      if (truth_bytes_ > 0) {
+        fs::resize_file(dir / kTruthFileName, truth_bytes_, ec);
+        truth_.open(dir / kTruthFileName, std::ios::app);
+      } else {
+        fs::remove(dir / kTruthFileName, ec);
+        truth_started_ = false;
+      }
+    }
+    return false;
+  };
   if (format_ == Format::kPcd) {
-    if (!SaveCloud((dir / Numbered("frame", count_, "pcd")).string(), cloud, error)) return false;
+    const std::string path = (dir / Numbered("frame", count_, "pcd")).string();
+    if (!SaveCloud(path, cloud, error)) return false;
+    written.push_back(path);
   } else {
     const auto& k = frame.intrinsics;
     if (static_cast<int>(cloud.width) != k.width || static_cast<int>(cloud.height) != k.height) {
@@ -72,10 +94,12 @@ bool FrameWriter::Write(const Frame& frame, std::string* error) {
       rgb.data[3 * i] = p.r, rgb.data[3 * i + 1] = p.g, rgb.data[3 * i + 2] = p.b;
       coloured = coloured || p.r || p.g || p.b;
     }
-    if (!WriteDepthPng((dir / Numbered("depth", count_, "png")).string(), depth, error))
-      return false;
-    if (coloured && !WriteRgbPng((dir / Numbered("rgb", count_, "png")).string(), rgb, error))
-      return false;
+    const std::string depth_path = (dir / Numbered("depth", count_, "png")).string();
+    if (!WriteDepthPng(depth_path, depth, error)) return false;
+    written.push_back(depth_path);
+    const std::string rgb_path = (dir / Numbered("rgb", count_, "png")).string();
+    if (coloured && !WriteRgbPng(rgb_path, rgb, error)) return undo();
+    if (coloured) written.push_back(rgb_path);
   }
   if (frame.truth) {
     if (!truth_started_) {
@@ -83,12 +107,17 @@ bool FrameWriter::Write(const Frame& frame, std::string* error) {
       truth_ << TruthCsvHeader() << "\n";
       truth_started_ = true;
     }
+    errno = 0;
     truth_ << TruthCsvRow({frame.sequence, frame.capture_utime, *frame.truth}) << "\n";
     truth_.flush();
     if (!truth_) {
-      return Fail(
-          error, (dir / kTruthFileName).string() + ": cannot write (" + std::strerror(errno) + ")");
+      const int why = errno;
+      undo();
+      return Fail(error, (dir / kTruthFileName).string() + ": cannot write (" +
+                             (why != 0 ? std::strerror(why) : "write failed") + ")");
     }
+    std::error_code ec;
+    truth_bytes_ = fs::file_size(dir / kTruthFileName, ec);
   }
   ++count_;
   return true;

@@ -4,6 +4,7 @@
 
 #include "io/frame_source.h"
 
+#include <cstdint>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -28,6 +29,7 @@ class FrameWriter {
   std::size_t count_ = 0;
   std::ofstream truth_;
   bool truth_started_ = false;
+  std::uintmax_t truth_bytes_ = 0;  // of whole rows (and the header): what a failure cuts back to
 };
 
 }  // namespace saccade

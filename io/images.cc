@@ -168,14 +168,11 @@ bool WriteRgbPng(const std::string& path, const RgbImage& image, std::string* er
 
 std::vector<std::string> ListDepthImages(const std::string& dir) {
   std::vector<std::string> out;
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string();
+  for (const auto& path : RegularFilesIn(dir)) {
+    const std::string name = std::filesystem::path(path).filename().string();
     const bool image = EndsWith(name, ".png") || IsTiff(name);
-    if (entry.is_regular_file() && image && name.find("depth") != std::string::npos)
-      out.push_back(entry.path().string());
+    if (image && name.find("depth") != std::string::npos) out.push_back(path);
   }
-  std::sort(out.begin(), out.end());
   return out;
 }
 

@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -155,7 +156,24 @@ bool CheckPcdBytes(const std::string& name, const std::string& bytes, PcdHeader*
     std::string key;
     if (!(in >> key) || key[0] == '#') continue;
     std::vector<std::string> values{std::istream_iterator<std::string>(in), {}};
-    if (key == "VERSION" || key == "VIEWPOINT") continue;
+    if (key == "VERSION") continue;
+    if (key == "VIEWPOINT") {
+      // The sensor's pose when the cloud was taken: normals are turned towards its origin, so it
+      // must be seven finite numbers (tx ty tz qw qx qy qz) with a unit quaternion.
+      double v[7];
+      bool ok = values.size() == 7;
+      for (std::size_t i = 0; ok && i < 7; ++i) {
+        char* end_of = nullptr;
+        v[i] = std::strtod(values[i].c_str(), &end_of);
+        ok = *end_of == '\0' && std::isfinite(v[i]) && std::abs(v[i]) < 1e6;
+      }
+      const double norm = ok ? v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6] : 0;
+      if (!ok || std::abs(norm - 1.0) > 1e-3)
+        return Fail(error, name,
+                    "VIEWPOINT must be tx ty tz qw qx qy qz: seven finite numbers, a unit "
+                    "quaternion");
+      continue;
+    }
     if (key == "FIELDS" || key == "COLUMNS") {
       names = values;
     } else if (key == "SIZE") {

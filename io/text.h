@@ -1,9 +1,11 @@
 // Small string helpers shared by io's file handling.
 #pragma once
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <system_error>
+#include <vector>
 
 namespace saccade {
 
@@ -26,6 +28,19 @@ inline bool IsDirectory(const std::string& path) {
 inline bool IsRegularFile(const std::string& path) {
   std::error_code ec;
   return std::filesystem::is_regular_file(path, ec);
+}
+
+/// The regular files of `dir` (links followed), sorted by path; none when it cannot be listed.
+/// Nothing throws: a link loop or an entry that cannot be asked about is skipped.
+inline std::vector<std::string> RegularFilesIn(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code type;
+    if (it->is_regular_file(type)) out.push_back(it->path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace saccade

@@ -9,6 +9,7 @@
 #   FUZZ_SECONDS=N                            each target's time
 #   FUZZ_INSTALL=0                            never install clang (the short run in make test)
 #   FUZZ_SEED=N                               libFuzzer's seed (the short run: 1, repeatable)
+#   FUZZ_FRESH=1                              start from the seed corpus alone (the short run)
 #
 # The code under test is compiled here with coverage instrumentation; the rest of Saccade it
 # needs comes from BUILD_DIR's libraries, linked as saccaded is (its link line), so a target
@@ -84,6 +85,7 @@ for target in "${targets[@]}"; do
     { cat "$out/$target.build.log" >&2; echo "saccade fuzz: $target did not link" >&2; exit 1; }
 done
 for target in "${targets[@]}"; do
+  [ "${FUZZ_FRESH:-0}" = 1 ] && rm -rf "${out:?}/$target"
   mkdir -p "$out/$target"
   cp -n "$root/tests/fuzz/corpus/$target/"* "$out/$target/" 2>/dev/null || true
   echo "saccade fuzz: $target for $seconds s" >&2

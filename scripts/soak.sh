@@ -3,15 +3,18 @@
 # capture (configs/sequences/object-moving.yaml: a coffee can sliding across a real mOSD
 # capture, 30 Hz, needs ../shared/data) for N minutes. Samples the daemon's resident memory
 # every SAMPLE_S seconds into soak-out/memory.csv, fits a line to the samples after the first
-# quarter (ASan's quarantine and the caches fill first), prints the slope and what it would
-# add over a day-equivalent (2.6 M frames at the source's 30 Hz), then stops the daemon with
-# SIGTERM and fails on any leak LeakSanitizer reports at exit.
+# quarter (ASan's quarantine and the caches fill first), prints the slope per hour and per
+# frame processed and what it would add over a day-equivalent (2.6 M frames, a day at the
+# source's 30 Hz: the daemon under ASan processes fewer a second, so the slope is taken per
+# frame), then stops the daemon with SIGTERM and fails on any leak LSan reports at exit.
 set -euo pipefail
 build_dir=${1:-build-asan}
 minutes=${MINUTES:-10}
 sample_s=${SAMPLE_S:-10}
 data=${SACCADE_DATA:-../shared/data}
 root=$(cd "$(dirname "$0")/.." && pwd)
+build_dir=$(cd "$build_dir" && pwd)
+cd "$root"  # the sequence's path and ../shared/data are the project root's
 out="$root/soak-out"
 sequence="configs/sequences/object-moving.yaml"
 if [ ! -d "$data/mosd_xcap" ]; then
@@ -41,16 +44,16 @@ end=$((start + minutes * 60))
 while [ "$(date +%s)" -lt "$end" ]; do
   rss=$(awk '/^VmRSS:/ {print $2}' "/proc/$pid/status" 2>/dev/null) ||
     { echo "saccade soak: saccaded ended early:" >&2; tail -20 "$out/saccaded.log" >&2; exit 1; }
-  echo "$(( $(date +%s) - start )),$rss" >> "$out/memory.csv"
+  [ -n "$rss" ] && echo "$(( $(date +%s) - start )),$rss" >> "$out/memory.csv"
   sleep "$sample_s"
 done
 kill -TERM "$pid"
 trap - EXIT
 status=0
 wait "$pid" || status=$?
-# Frames the source made and the daemon recognized: the last status line saccaded printed.
-last=$(grep -E '^ *[0-9.]+ s +[0-9.]+ fps' "$out/saccaded.log" | tail -1 || true)
-awk -F, -v minutes="$minutes" -v last="$last" '
+# Frames processed: saccaded's run line at exit ("run: N frames processed in S s").
+frames=$(sed -n 's/.*run: \([0-9]*\) frames processed in \([0-9.]*\) s.*/\1/p' "$out/saccaded.log" | tail -1)
+awk -F, -v minutes="$minutes" -v frames="${frames:-0}" '
   NR == 1 { next }
   { t[n] = $1; m[n] = $2 / 1024; n++ }
   END {
@@ -58,9 +61,11 @@ awk -F, -v minutes="$minutes" -v last="$last" '
     first = int(n / 4)
     for (i = first; i < n; i++) { k++; st += t[i]; sm += m[i]; stt += t[i] * t[i]; stm += t[i] * m[i] }
     slope = (k * stm - st * sm) / (k * stt - st * st)          # MB per second
-    day_s = 2.6e6 / 30
-    printf "saccade soak: %d min, RSS %.1f MB at %d s, %.1f MB at the end (%d s); fit from %d s: %+.2f MB/hour, %+.1f MB over a day-equivalent (2.6 M frames at 30 Hz)\n", minutes, m[first], t[first], m[n-1], t[n-1], t[first], slope * 3600, slope * day_s
-    if (last != "") print "saccade soak: last status: " last
+    printf "saccade soak: %d min, RSS %.1f MB at %d s, %.1f MB at the end (%d s); fit from %d s: %+.2f MB/hour\n", minutes, m[first], t[first], m[n-1], t[n-1], t[first], slope * 3600
+    if (frames > 0) {
+      fps = frames / t[n-1]
+      printf "saccade soak: %d frames processed (%.1f a second under ASan): %+.4f MB a thousand frames, %+.1f MB over a day-equivalent (2.6 M frames)\n", frames, fps, slope / fps * 1000, slope / fps * 2.6e6
+    }
   }' "$out/memory.csv"
 if grep -q "LeakSanitizer" "$out/saccaded.log"; then
   grep -A30 "LeakSanitizer" "$out/saccaded.log" | head -60 >&2

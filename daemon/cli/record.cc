@@ -52,8 +52,9 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
   }
   std::unique_ptr<FrameWriter> writer;
   std::unique_ptr<FakenectWriter> dump;
-  // The output is made when the first frame has come: a source that fails before it writes
-  // nothing.
+  // The output is made when the first frame has come, so that a source that fails before it
+  // writes nothing (or when the source ends without one: an empty recording). An .oni
+  // recording starts with the device instead.
   auto open_output = [&](std::string* why) -> bool {
     if (format == "fakenect") {
       dump = FakenectWriter::Open(dir, NominalKinectCalibration(), why);
@@ -92,6 +93,10 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
       break;
     }
     ++taken;
+  }
+  if (code == kExitOk && format != "oni" && !writer && !dump && !open_output(&error)) {
+    err << "saccade record: " << error << "\n";
+    code = kExitFailure;
   }
   if (auto* openni = dynamic_cast<OpenNI2Source*>(source.get())) openni->StopRecording();
   {

@@ -11,6 +11,7 @@
 #include <png.h>
 
 #include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -346,6 +347,7 @@ std::vector<BadInput> Corpus() {
   scenario("FramesNegative", Scenario("frames: -1\n"), "frames");
   scenario("RateNaN", Scenario("rate_hz: .nan\n"), "rate_hz");
   scenario("RateZero", Scenario("rate_hz: 0\n"), "rate_hz");
+  scenario("RateAboveAKilohertz", Scenario("rate_hz: 5000\n"), "rate_hz must be 0.01-1000 Hz");
   scenario("SeedHuge", Scenario("seed: 1e20\n"), "seed");
   scenario("TableHeightInfinite", Scenario("table_height_m: .inf\n"), "table_height_m");
   scenario("OccludedFramesNegative", Scenario("occluded_frames: -5\n"), "occluded_frames");
@@ -469,8 +471,11 @@ class BadInputs : public ::testing::TestWithParam<BadInput> {};
 
 TEST_P(BadInputs, OneLineTheRightExitCodeAndNothingWritten) {
   const BadInput& bad = GetParam();
-  const std::string dir = ::testing::TempDir() + "saccade_bad_input/" + bad.name;
-  const std::string run = ::testing::TempDir() + "saccade_bad_input/" + bad.name + ".";
+  // One folder a process: the plain and the sanitized suites may run at once.
+  const std::string root =
+      ::testing::TempDir() + "saccade_bad_input_" + std::to_string(getpid()) + "/";
+  const std::string dir = root + bad.name;
+  const std::string run = root + bad.name + ".";
   fs::remove_all(dir);
   fs::create_directories(dir);
   for (const File& f : bad.files) {
@@ -497,6 +502,9 @@ TEST_P(BadInputs, OneLineTheRightExitCodeAndNothingWritten) {
   EXPECT_NE(err.find(Replace(bad.says, "$D", dir)), std::string::npos) << cmd << "\n" << err;
   EXPECT_EQ(out, "") << cmd;
   EXPECT_EQ(Tree(dir), before) << cmd << ": wrote into its folder";
+  fs::remove_all(dir);
+  fs::remove(run + "out");
+  fs::remove(run + "err");
 }
 
 std::string CaseName(const ::testing::TestParamInfo<BadInput>& info) { return info.param.name; }

@@ -7,8 +7,10 @@
 #include <lcm/lcm-cpp.hpp>
 #include <saccade/fixation_t.hpp>
 
+#include <unistd.h>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -61,7 +63,8 @@ TEST(DecodeFixation, AStringLengthOfZeroNegativeOrPastTheEndIsMalformedNotACrash
 }
 
 TEST(ConvertFixationLog, CorruptStretchesAndATruncatedLastEventAreSkippedAndCounted) {
-  const std::string path = ::testing::TempDir() + "saccade_fixations.lcmlog";
+  const std::string path =
+      ::testing::TempDir() + "saccade_fixations_" + std::to_string(getpid()) + ".lcmlog";
   {
     lcm::LogFile log(path, "w");
     ASSERT_TRUE(log.good());
@@ -94,11 +97,12 @@ TEST(ConvertFixationLog, CorruptStretchesAndATruncatedLastEventAreSkippedAndCoun
   std::string error;
   ASSERT_TRUE(ConvertFixationLog(path, "SACCADE_FIXATION", &writer, &stats, &error)) << error;
   EXPECT_EQ(stats.written, 4);  // the two written, and the two good ones after the garbage
-  EXPECT_EQ(stats.skipped, 2);  // the lying event and the cut one
+  EXPECT_EQ(stats.skipped, 3);  // the garbage, the lying event and the cut one
 }
 
 TEST(CheckLcmLog, WhatIsNotAnLcmLogIsOneLine) {
-  const std::string dir = ::testing::TempDir();
+  const std::string dir = ::testing::TempDir() + "saccade_lcmlog_" + std::to_string(getpid()) + "/";
+  std::filesystem::create_directories(dir);
   std::ofstream(dir + "saccade_empty.lcmlog");
   std::ofstream(dir + "saccade_text.lcmlog") << "time,x,y\n";
   std::string error;

@@ -80,6 +80,12 @@ std::vector<BadPcd> Corpus() {
       {"no-data-line", Replace(good_ascii, "DATA ascii\n", ""), "no DATA line"},
       {"unknown-data", Replace(good_ascii, "DATA ascii", "DATA zip"), "DATA must be"},
       {"unknown-keyword", Replace(good_ascii, "VIEWPOINT", "VIEWPONT"), "unknown header keyword"},
+      {"viewpoint-nan", Replace(good_ascii, "VIEWPOINT 0 0 0", "VIEWPOINT nan 0 0"),
+       "VIEWPOINT must be"},
+      {"viewpoint-short", Replace(good_ascii, "VIEWPOINT 0 0 0 1 0 0 0", "VIEWPOINT 0 0 0 1"),
+       "VIEWPOINT must be"},
+      {"viewpoint-not-a-rotation", Replace(good_ascii, "0 0 0 1 0 0 0", "0 0 0 2 0 0 0"),
+       "VIEWPOINT must be"},
       {"no-fields", Replace(good_ascii, "FIELDS x y z rgb\n", ""), "no FIELDS line"},
       {"no-width", Replace(good_ascii, "WIDTH 2\n", ""), "no WIDTH line"},
       {"width-zero", Replace(good_ascii, "WIDTH 2", "WIDTH 0"), "WIDTH must be a whole number"},
@@ -157,6 +163,28 @@ TEST(PcdCheck, GoodFilesOfEveryKindPass) {
     ASSERT_TRUE(cloud) << name << ": " << error;
     EXPECT_EQ(cloud->size(), 2u) << name;
   }
+}
+
+// The VIEWPOINT (the sensor's pose) survives a save and a load: normals are turned towards its
+// origin, and it was once dropped on load (a model saved with its capture's viewpoint was then
+// not found).
+TEST(PcdCheck, TheViewpointSurvivesASaveAndALoad) {
+  Cloud cloud;
+  PointT p;
+  p.x = 0.1f, p.y = 0.2f, p.z = 1.0f;
+  cloud.push_back(p);
+  cloud.sensor_origin_ = Eigen::Vector4f(0.3f, -0.25f, -0.85f, 0.0f);
+  cloud.sensor_orientation_ =
+      Eigen::Quaternionf(Eigen::AngleAxisf(0.35f, Eigen::Vector3f::UnitY()));
+  const std::string path =
+      ::testing::TempDir() + "saccade_viewpoint_" + std::to_string(getpid()) + ".pcd";
+  std::string error;
+  ASSERT_TRUE(SaveCloud(path, cloud, &error)) << error;
+  const auto loaded = LoadCloud(path, &error);
+  ASSERT_TRUE(loaded) << error;
+  EXPECT_TRUE(loaded->sensor_origin_.head<3>().isApprox(cloud.sensor_origin_.head<3>(), 1e-5f));
+  EXPECT_TRUE(loaded->sensor_orientation_.isApprox(cloud.sensor_orientation_, 1e-5f));
+  std::remove(path.c_str());
 }
 
 TEST(PcdCheck, DevicesPipesAndFoldersAreRefusedWithoutBeingRead) {
