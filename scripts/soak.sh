@@ -29,7 +29,7 @@ initial_fovea_m: [0.0, 0.0, 1.0]
 service: {status_period_s: 10, summary: line}
 YAML
 export ASAN_OPTIONS="detect_leaks=1:exitcode=66:quarantine_size_mb=16"
-export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:exitcode=66:suppressions=$root/scripts/sanitizers/ubsan.supp"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:exitcode=66"
 export LSAN_OPTIONS="suppressions=$root/scripts/sanitizers/lsan.supp:print_suppressions=0"
 export OMP_WAIT_POLICY=passive
 "$build_dir/daemon/saccaded" --config "$out/soak.yaml" --lcm-url "udpm://239.255.76.67:7667?ttl=0" \
