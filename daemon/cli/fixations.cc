@@ -25,11 +25,17 @@ struct Output {
   std::unique_ptr<FixationWriter> writer;
 };
 
+// The format --out asks for ("-": CSV on stdout); false with `error` for an unknown one.
+bool OutputFormat(const Args& args, FixationWriter::Format* format, std::string* error) {
+  const std::string path = args.Get("out");
+  return FixationWriter::FormatOf(path == "-" ? "-.csv" : path, format, error);
+}
+
 // Opens --out; false with `error` when its format is unknown or it cannot be written.
 bool OpenOutput(const Args& args, std::ostream& out, Output* output, std::string* error) {
   const std::string path = args.Get("out");
   FixationWriter::Format format;
-  if (!FixationWriter::FormatOf(path == "-" ? "-.csv" : path, &format, error)) return false;
+  if (!OutputFormat(args, &format, error)) return false;
   if (path != "-") {
     output->file.open(path);
     if (!output->file) {
@@ -49,9 +55,7 @@ int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std
     return Usage(err, "log-fixations", error);
   if (!args.Has("out")) return Usage(err, "log-fixations", kOutRequired);
   FixationWriter::Format format;
-  if (!FixationWriter::FormatOf(args.Get("out") == "-" ? "-.csv" : args.Get("out"), &format,
-                                &error))
-    return Usage(err, "log-fixations", error);
+  if (!OutputFormat(args, &format, &error)) return Usage(err, "log-fixations", error);
   std::int64_t count = 0;
   if (args.Has("count")) {
     const auto n = Args::ParsePositiveInt(args.Get("count"));
@@ -87,9 +91,7 @@ int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::o
     return Usage(err, "fixations", error);
   if (!args.Has("out")) return Usage(err, "fixations", kOutRequired);
   FixationWriter::Format format;
-  if (!FixationWriter::FormatOf(args.Get("out") == "-" ? "-.csv" : args.Get("out"), &format,
-                                &error))
-    return Usage(err, "fixations", error);
+  if (!OutputFormat(args, &format, &error)) return Usage(err, "fixations", error);
   Output output;
   FixationLogStats stats;
   // The log is checked before the output is opened: a log that is not one writes nothing.
