@@ -63,6 +63,19 @@ Setter Vector2(Eigen::Vector2f* field) {
   };
 }
 
+// A mapping key as text. A key that is itself a list or a mapping ({a: 1}: 2 is valid YAML)
+// names nothing here: refused, where yaml-cpp's as<std::string>() would throw.
+bool KeyText(const YAML::Node& key, const std::string& where, const std::string& path,
+             std::string* text, std::string* error) {
+  if (!key.IsScalar()) {
+    return Fail(error, path + ": line " + std::to_string(key.Mark().line + 1) + ": a key" +
+                           (where.empty() ? "" : " in '" + where + "'") +
+                           " is a list or a mapping, not a name");
+  }
+  *text = key.Scalar();
+  return true;
+}
+
 // Sets `key` from `value` with its setter; `qualified` names it in errors ("section.key").
 bool ApplyKey(const std::map<std::string, Setter>& setters, const std::string& key,
               const std::string& qualified, const YAML::Node& value, const std::string& path,
@@ -96,7 +109,8 @@ bool ApplySection(const YAML::Node& section, const std::string& name,
     return Fail(error, path + ": key '" + name + "': expected a mapping");
   }
   for (const auto& kv : section) {
-    const std::string key = kv.first.as<std::string>();
+    std::string key;
+    if (!KeyText(kv.first, name, path, &key, error)) return false;
     if (!ApplyKey(setters, key, name + "." + key, kv.second, path, error)) return false;
     if (set) set->push_back(name + "." + key);
   }
@@ -108,7 +122,10 @@ bool ApplySection(const YAML::Node& section, const std::string& name,
 bool ApplySchema(const YAML::Node& node, const ConfigSchema& schema, const std::string& prefix,
                  const std::string& path, std::string* error, std::vector<std::string>* set) {
   for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
+    std::string key;
+    if (!KeyText(kv.first, prefix.empty() ? "" : prefix.substr(0, prefix.size() - 1), path, &key,
+                 error))
+      return false;
     // A key that is both a section and a plain key (source: SPEC, or source: {spec: ...}) is
     // the section when it is a mapping.
     const auto section = schema.sections.find(key);
@@ -217,7 +234,8 @@ bool LoadScenario(const std::string& path, Scenario* scenario, std::string* erro
       {"noise", KeysOf(&s.noise).setters},
   };
   for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
+    std::string key;
+    if (!KeyText(kv.first, "", path, &key, error)) return false;
     if (key == "clutter") {
       if (!LoadClutter(kv.second, path, &s.clutter, error)) return false;
       continue;
@@ -380,7 +398,8 @@ bool ApplyRecognitionAndFovea(const YAML::Node& node, const std::string& name,
   const std::map<std::string, const std::map<std::string, Setter>*> sections = {
       {"recognition", &recognition.setters}, {"fovea", &fovea.setters}};
   for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
+    std::string key;
+    if (!KeyText(kv.first, name, path, &key, error)) return false;
     const auto section = sections.find(key);
     if (section == sections.end()) {
       return Fail(error,
@@ -420,7 +439,8 @@ bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& ba
         });
         YAML::Node sections;
         for (const auto& kv : node) {
-          const std::string key = kv.first.as<std::string>();
+          std::string key;
+          if (!KeyText(kv.first, entry, path, &key, error)) return false;
           if (key == "recognition" || key == "fovea") {
             sections[key] = kv.second;
           } else if (!ApplyKey(top.setters, key, entry + "." + key, kv.second, path, error)) {
@@ -457,7 +477,8 @@ bool LoadLabelledCases(const std::string& path, const std::string& data_dir,
                                                    {"identity", Scalar(&c.identity)},
                                                    {"category", Scalar(&c.category)}};
         for (const auto& kv : node) {
-          const std::string key = kv.first.as<std::string>();
+          std::string key;
+          if (!KeyText(kv.first, entry, path, &key, error)) return false;
           const std::string qualified = entry + "." + key;
           const bool ok =
               key == "model"   ? ApplySection(kv.second, qualified, capture_model, path, error)

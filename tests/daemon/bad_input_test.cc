@@ -364,6 +364,8 @@ std::vector<BadInput> Corpus() {
   scenario("NotYaml", "preset: [demo\n", "line");
   scenario("AMapForANumber", Scenario("frames: {a: 1}\n"), "frames");
   scenario("AListForANumber", Scenario("frames: [1, 2]\n"), "frames");
+  scenario("AMapForAKey", Scenario("{frames: 1}: 2\n"), "a key is a list or a mapping");
+  scenario("AListForAKeyInASection", Scenario("noise: {[a]: 1}\n"), "in 'noise'");
 
   // Recognition configurations (--config).
   auto config = [&](const std::string& name, const std::string& yaml, const std::string& says) {
@@ -385,6 +387,7 @@ std::vector<BadInput> Corpus() {
   config("FoveaCentreOfTwo", "fovea: {center: [0, 1]}\n", "center");
   config("NotYaml", "recognition: {a: [}\n", "line");
   config("TabIndent", "recognition:\n\tcluster_size: 3\n", "line");
+  config("AMapForAKey", "recognition: {{cluster_size: 3}: 4}\n", "in 'recognition'");
   config("IsAFolder", "", "$D/c.yaml");
   c.back().files = {{"m.pcd", good}, {"c.yaml/", ""}};
   add("ConfigMissing", model_ok,
@@ -405,6 +408,7 @@ std::vector<BadInput> Corpus() {
                "defaults: {recognition: {cluster_size: -1}}\nconfigurations: [{name: a}]\n",
                "cluster_size");
   eval_configs("ConfigurationsNotAList", "configurations: {name: a}\n", "configurations");
+  eval_configs("AListForAKey", "configurations: [{[name]: a}]\n", "in 'configurations[0]'");
   auto cases = [&](const std::string& name, const std::string& yaml, const std::string& says) {
     add("Cases" + name, {{"m.pcd", good}, {"c.yaml", kConfigs}, {"k.yaml", yaml}},
         "eval --cases $D/k.yaml --data $D --configs $D/c.yaml --out $D/out", 1, says);
@@ -426,6 +430,11 @@ std::vector<BadInput> Corpus() {
         "cases: [{name: a, model: {file: m.pcd, object: 1}, scene: {file: m.pcd, object: 1}, "
         "weight: 2}]\n",
         "weight");
+  // What the config fuzzer found: a flow mapping as a key (valid YAML) threw out of the loader.
+  cases("AMapForAKey",
+        "cases: [{name: a, model: {file: m.pcd, object: 1}, scene: {file: m.pcd, object: 1}, "
+        "{category}: box}]\n",
+        "in 'cases[0]'");
 
   // The daemon's configuration.
   auto daemon = [&](const std::string& name, const std::string& yaml, const std::string& says) {
@@ -439,6 +448,8 @@ std::vector<BadInput> Corpus() {
   daemon("ChannelPrefixTooLong", "lcm: {channel_prefix: " + std::string(60, 'A') + "}\n",
          "channel_prefix");
   daemon("ListForAString", "source: [a, b]\n", "source");
+  daemon("AMapForAKey", "{source: a}: b\n", "a key is a list or a mapping");
+  daemon("AListForAKeyInASection", "lcm: {[url]: x}\n", "in 'lcm'");
   daemon("NotYaml", "source: [a\n", "line");
   daemon("BomThenTab", kBom + "\tsource: x\n", "$D/d.yaml");
   return c;
