@@ -256,7 +256,8 @@ void PublishStage::Process(Job* job) {
                               votes + "; " + job->next.reason);
   }
   std::int64_t unsaid = 0;
-  if (!bus_->Publish(frame, job->next) && send_failure_log_.Allow(&unsaid))
+  const bool sent = bus_->Publish(frame, job->next);
+  if (!sent && send_failure_log_.Allow(&unsaid))
     Log(LogLevel::kWarning,
         "frame " + std::to_string(frame.seq) + ": LCM did not send it" +
             (unsaid > 0 ? " (nor " + std::to_string(unsaid) + " frames before it, unlogged)"
@@ -278,6 +279,7 @@ void PublishStage::Process(Job* job) {
   run_track_.Add(job->track_ms);
   run_capture_to_publish_.Add(Ms(job->frame.arrival_steady_ns, t1));
   ++processed_;
+  if (!sent) ++unsent_;
   if (job->used.frame_seq >= 0)
     lag_max_ = std::max<int>(lag_max_, static_cast<int>(frame.seq - job->used.frame_seq));
   mode_ = job->next.mode;
@@ -289,6 +291,7 @@ void PublishStage::TakePeriod(double period_s, bool whole_run, StatusReport* s,
                               std::string* summary) {
   std::lock_guard<std::mutex> lock(mutex_);
   s->frames_processed = processed_;
+  s->frames_unsent = unsent_;
   s->fps = static_cast<float>((processed_ - (whole_run ? 0 : last_processed_)) / period_s);
   last_processed_ = processed_;
   s->fixation_lag_max = lag_max_;
@@ -315,7 +318,9 @@ std::string PublishStage::RunLine(double seconds, const SourceStats& source) con
                 run_recognize_.Percentile(0.99), run_track_.Percentile(0.5),
                 run_track_.Percentile(0.99), run_capture_to_publish_.Percentile(0.5),
                 run_capture_to_publish_.Percentile(0.99));
-  return line;
+  std::string run = line;
+  if (unsent_ > 0) run += "; LCM did not send " + std::to_string(unsent_) + " of them";
+  return run;
 }
 
 }  // namespace saccade

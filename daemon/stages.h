@@ -156,6 +156,7 @@ class PublishStage {
   LatencyHistogram run_recognize_, run_track_, run_capture_to_publish_;         // the whole run
   std::int64_t recognized_ = 0;  // frames recognition ran on (the others were tracked alone)
   std::int64_t processed_ = 0, last_processed_ = 0;
+  std::int64_t unsent_ = 0;  // frames whose detections or fixation LCM did not send
   int lag_max_ = 0;
   AttentionMode mode_ = AttentionMode::kSearching;
   std::string last_summary_;  // the newest frame's fovea and error, for the summary line

@@ -6,8 +6,13 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <net/if.h>
+#include <net/route.h>
+#include <netinet/in.h>
+#include <sched.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/ioctl.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -26,6 +31,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <regex>
 #include <sstream>
 #include <thread>
 #include <utility>
@@ -485,6 +491,97 @@ TEST(Saccaded, AModelFileRemovedBeforeAReloadKeepsTheLoadedModelTracking) {
 // A source whose frames change size from one to the next (a driver switching modes, a folder
 // of mixed captures): 64x48, 320x240 and 160x120 organized frames, one after the other. Each is
 // processed, none stops the daemon, and it loops over them until told to stop.
+// The multicast route of this process's network namespace (224.0.0.0/4 through lo), which LCM
+// needs to open and to send: added, and removed to make every send fail.
+class MulticastRoute {
+ public:
+  MulticastRoute() : fd_(socket(AF_INET, SOCK_DGRAM, 0)) {}
+  ~MulticastRoute() { close(fd_); }
+  /// Brings lo up with multicast; false with errno's text in `why` when refused.
+  bool LoopbackUp(std::string* why) const {
+    ifreq ifr{};
+    std::strncpy(ifr.ifr_name, "lo", IFNAMSIZ - 1);
+    if (ioctl(fd_, SIOCGIFFLAGS, &ifr) != 0) return Fail(why);
+    ifr.ifr_flags = static_cast<short>(ifr.ifr_flags | IFF_UP | IFF_MULTICAST);
+    return ioctl(fd_, SIOCSIFFLAGS, &ifr) == 0 || Fail(why);
+  }
+  bool Add(std::string* why) { return Route(SIOCADDRT, why); }
+  bool Remove(std::string* why) { return Route(SIOCDELRT, why); }
+
+ private:
+  static bool Fail(std::string* why) {
+    *why = std::strerror(errno);
+    return false;
+  }
+  bool Route(unsigned long request, std::string* why) {
+    rtentry rt{};
+    auto set = [](sockaddr* a, std::uint32_t address) {
+      sockaddr_in in{};
+      in.sin_family = AF_INET;
+      in.sin_addr.s_addr = htonl(address);
+      std::memcpy(a, &in, sizeof in);
+    };
+    set(&rt.rt_dst, 0xE0000000u);      // 224.0.0.0
+    set(&rt.rt_genmask, 0xF0000000u);  // /4
+    rt.rt_flags = RTF_UP;
+    char lo[] = "lo";
+    rt.rt_dev = lo;
+    return ioctl(fd_, request, &rt) == 0 || Fail(why);
+  }
+  int fd_;
+};
+
+// LCM sends that fail: the test and the daemon run in a network namespace of their own, whose
+// multicast route the test removes while the daemon publishes, then puts back. Every send
+// fails meanwhile (ENETUNREACH); the daemon must go on, count the frames it could not send,
+// and publish again once the route is back. Needs root (a new network namespace).
+TEST(Saccaded, ANetworkThatRefusesToSendIsSurvivedCountedAndResumed) {
+  if (unshare(CLONE_NEWNET) != 0)
+    GTEST_SKIP() << "no network namespace of its own (needs root): " << std::strerror(errno);
+  MulticastRoute route;
+  std::string why;
+  ASSERT_TRUE(route.LoopbackUp(&why)) << why;
+  ASSERT_TRUE(route.Add(&why)) << why;
+  Sandbox box;
+  StatusWatch watch(box.url);
+  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                        "synthetic:static?rate=30&loop=1", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"));
+  std::int64_t before = 0;
+  ASSERT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
+    before = s.frames_processed;
+    return s.frames_processed >= 5 && s.frames_unsent == 0;
+  })) << ReadFile(box.Path("err"));
+
+  ASSERT_TRUE(route.Remove(&why)) << why;
+  // The first frame not sent; every one after it fails too until the route is back.
+  const std::regex unsent_line("frame ([0-9]+): LCM did not send it");
+  std::smatch first_unsent;
+  std::string err;
+  ASSERT_TRUE(WaitFor([&] {
+    err = ReadFile(box.Path("err"));
+    return std::regex_search(err, first_unsent, unsent_line);
+  })) << ReadFile(box.Path("err"));
+  const std::int64_t first_unsent_seq = std::stoll(first_unsent[1].str());
+  ASSERT_TRUE(route.Add(&why)) << why;
+
+  // Back: statuses arrive again, count what was not sent, and frames went on being processed.
+  saccade::status_t after;
+  ASSERT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
+    after = s;
+    return s.frames_unsent > 0 && s.frames_processed > before + s.frames_unsent;
+  })) << ReadFile(box.Path("err"));
+  EXPECT_LE(after.frames_unsent, after.frames_processed);
+  // A fixation after the first unsent frame was sent after the route came back.
+  EXPECT_TRUE(watch.WaitForFixation(
+      [&](const saccade::fixation_t& f) { return f.seq > first_unsent_seq; }));
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
+  err = ReadFile(box.Path("err"));
+  EXPECT_NE(err.find(" of them"), std::string::npos) << err;  // the run line counts them
+  EXPECT_EQ(err.find("error"), std::string::npos) << err;
+}
+
 TEST(Saccaded, FramesThatChangeSizeFromOneToTheNextAreEachProcessed) {
   Sandbox box;
   StatusWatch watch(box.url);
