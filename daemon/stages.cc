@@ -319,6 +319,8 @@ std::string PublishStage::RunLine(double seconds, const SourceStats& source) con
                 run_track_.Percentile(0.99), run_capture_to_publish_.Percentile(0.5),
                 run_capture_to_publish_.Percentile(0.99));
   std::string run = line;
+  if (source.skipped > 0)
+    run += "; " + std::to_string(source.skipped) + " unusable frame(s) of the source skipped";
   if (unsent_ > 0) run += "; LCM did not send " + std::to_string(unsent_) + " of them";
   return run;
 }

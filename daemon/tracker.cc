@@ -167,6 +167,7 @@ StatusReport Tracker::Impl::PublishStatus(double period_s, bool final) {
   s.source_state = source_stats.state;
   s.frames_in = static_cast<std::int64_t>(source_stats.produced);
   s.frames_dropped = static_cast<std::int64_t>(source_stats.dropped);
+  s.frames_skipped = static_cast<std::int64_t>(source_stats.skipped);
   s.source_reconnects = static_cast<std::int64_t>(source_stats.reconnects);
   s.commands_accepted = bus->AcceptedCommands();
   s.commands_rejected = bus->RejectedCommands();

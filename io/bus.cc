@@ -248,6 +248,7 @@ class LcmBus : public Bus {
     m.frames_in = s.frames_in;
     m.frames_processed = s.frames_processed;
     m.frames_dropped = s.frames_dropped;
+    m.frames_skipped = s.frames_skipped;
     m.frames_unsent = s.frames_unsent;
     m.source_reconnects = s.source_reconnects;
     m.fps = s.fps;

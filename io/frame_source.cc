@@ -7,6 +7,7 @@
 #include "io/config.h"
 #include "io/freenect_source.h"
 #include "io/images.h"
+#include "io/log.h"
 #include "io/mailbox.h"
 #include "io/openni2_source.h"
 #include "io/text.h"
@@ -76,6 +77,7 @@ class SequenceSource : public FrameSource {
     SourceStats s;
     s.produced = produced_;
     s.dropped = mailbox_.dropped();
+    s.skipped = skipped_;
     std::lock_guard<std::mutex> lock(state_mutex_);
     s.state = state_;
     return s;
@@ -96,19 +98,32 @@ class SequenceSource : public FrameSource {
     state_ = state;
   }
 
+  // A frame that cannot be used (a corrupt or truncated file, too few points for intrinsics)
+  // is skipped and counted, as a camera drops one, and its sequence number stays unused; it is
+  // named in the log on the first pass. A whole pass without one usable frame is an error, not
+  // a loop without end.
   Status ReadNext(Frame* frame, std::string* error) {
     const std::size_t n = sequence_->size();
-    if (next_ >= n && !loop_) return Status::kEnd;
-    const std::size_t pass = next_ / n, i = next_ % n;
-    if (!sequence_->Read(i, frame, error)) {
-      SetState("error");
-      return Status::kError;
+    for (std::size_t failed = 0;;) {
+      if (next_ >= n && !loop_) return Status::kEnd;
+      const std::size_t pass = next_ / n, i = next_ % n;
+      std::string why;
+      if (sequence_->Read(i, frame, &why)) {
+        // Each pass through a loop continues the clock where the last one ended.
+        frame->capture_utime += std::llround(pass * n * 1e6 / sequence_->clock_hz());
+        frame->sequence = next_++;
+        ++produced_;
+        return Status::kFrame;
+      }
+      ++next_;
+      if (++failed == n) {
+        SetState("error");
+        Fail(error, why + (n == 1 ? "" : " (no frame of " + sequence_->Describe() + " is usable)"));
+        return Status::kError;
+      }
+      ++skipped_;
+      if (pass == 0) Log(LogLevel::kWarning, "skipping an unusable frame: " + why);
     }
-    // Each pass through a loop continues the clock where the last one ended.
-    frame->capture_utime += std::llround(pass * n * 1e6 / sequence_->clock_hz());
-    frame->sequence = next_++;
-    ++produced_;
-    return Status::kFrame;
   }
 
   void Produce() {
@@ -137,7 +152,7 @@ class SequenceSource : public FrameSource {
   const bool loop_;
   std::atomic<bool> stopped_{false};
   std::size_t next_ = 0;  // only the producer (live) or the consumer (not live) touches it
-  std::atomic<std::uint64_t> produced_{0};
+  std::atomic<std::uint64_t> produced_{0}, skipped_{0};
   LatestMailbox<Item> mailbox_;
   mutable std::mutex state_mutex_;
   std::string state_ = "streaming";

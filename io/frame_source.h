@@ -19,6 +19,7 @@ std::int64_t SteadyNowNs();
 struct SourceStats {
   std::uint64_t produced = 0;  // frames the source made
   std::uint64_t dropped = 0;   // live frames overwritten before the consumer took them
+  std::uint64_t skipped = 0;   // frames that could not be read (a corrupt file), skipped
   std::uint64_t reconnects = 0;
   std::uint64_t unpaired = 0;  // depth frames that found no colour frame in time (cameras)
   std::string state;           // "streaming", "ended", "reconnecting: why", ...

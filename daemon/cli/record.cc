@@ -108,6 +108,7 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
   out << "recorded " << taken << " frame(s) from " << source->Describe() << " to " << dir << " ("
       << format << "), " << stats.dropped << " dropped";
   if (stats.unpaired > 0) out << ", " << stats.unpaired << " without their colour frame";
+  if (stats.skipped > 0) out << ", " << stats.skipped << " unusable skipped";
   out << "\n";
   return code;
 }

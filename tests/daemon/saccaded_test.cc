@@ -122,6 +122,14 @@ std::string ReadFile(const std::string& path) {
   return s.str();
 }
 
+// How many times `what` occurs in `text`.
+int Count(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size()))
+    ++n;
+  return n;
+}
+
 // Polls `done` until it holds or a generous deadline passes (a condition, not a timing).
 bool WaitFor(const std::function<bool()>& done, double seconds = 120) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
@@ -582,7 +590,9 @@ TEST(Saccaded, ANetworkThatRefusesToSendIsSurvivedCountedAndResumed) {
   EXPECT_EQ(err.find("error"), std::string::npos) << err;
 }
 
-TEST(Saccaded, FramesThatChangeSizeFromOneToTheNextAreEachProcessed) {
+// A folder whose frames change size from one to the next, with a corrupt file among them: the
+// others are each processed, the corrupt one is skipped and counted, and the daemon goes on.
+TEST(Saccaded, FramesThatChangeSizeAreEachProcessedAndACorruptOneIsSkipped) {
   Sandbox box;
   StatusWatch watch(box.url);
   const std::string frames = box.Path("frames");
@@ -600,17 +610,22 @@ TEST(Saccaded, FramesThatChangeSizeFromOneToTheNextAreEachProcessed) {
   ASSERT_TRUE(saccade::SaveCloud(frames + "/1.pcd", wall(64, 48), &error)) << error;
   ASSERT_TRUE(saccade::SaveCloud(frames + "/2.pcd", wall(320, 240), &error)) << error;
   ASSERT_TRUE(saccade::SaveCloud(frames + "/3.pcd", wall(160, 120), &error)) << error;
+  std::ofstream(frames + "/4.pcd") << "VERSION 0.7\nFIELDS x y z\n";  // a header cut short
   const std::string config = box.Path("saccaded.yaml");
   fs::copy_file(kSourceDir + "/configs/demo.yaml", config);
   Child daemon = Spawn({kSaccaded, "--config", config, "--source",
                         "pcd:" + frames + "?loop=1&rate=30", "--lcm-url", box.url},
                        box.Path("out"), box.Path("err"));
-  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed >= 9; }))
-      << ReadFile(box.Path("err"));
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
+    return s.frames_processed >= 9 && s.frames_skipped >= 3;  // three passes
+  })) << ReadFile(box.Path("err"));
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
-  EXPECT_EQ(ReadFile(box.Path("err")).find("error"), std::string::npos)
-      << ReadFile(box.Path("err"));
+  const std::string err = ReadFile(box.Path("err"));
+  EXPECT_EQ(err.find("error"), std::string::npos) << err;
+  // Named once (the first pass), counted every time.
+  EXPECT_EQ(Count(err, "skipping an unusable frame: " + frames + "/4.pcd"), 1) << err;
+  EXPECT_NE(err.find("unusable frame(s) of the source skipped"), std::string::npos) << err;
 }
 
 // Signals from outside that once broke it: a SIGUSR2 ended its signal handling (SIGTERM was

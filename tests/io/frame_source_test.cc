@@ -245,7 +245,52 @@ TEST(FileSources, DepthAndPcdRecordingsReadBackWithTheirTruth) {
   }
 }
 
-TEST(FileSources, CorruptFileInASequenceIsAnErrorNamingIt) {
+// A recording with a corrupt and a truncated file: those frames are skipped and counted (their
+// sequence numbers unused), the others read with their own truth; a folder where no frame is
+// usable is one error, not a loop without end.
+TEST(FileSources, UnusableFramesAreSkippedAndCountedAndAFolderOfNoneIsAnError) {
+  const auto original = Open("synthetic:circular?rate=0&frames=4");
+  const std::string dir = FreshDir("unusable");
+  std::string error;
+  auto writer = FrameWriter::Open(dir, FrameWriter::Format::kPcd, &error);
+  ASSERT_TRUE(writer) << error;
+  for (const auto& f : original) ASSERT_TRUE(writer->Write(f, &error)) << error;
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".pcd") files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  ASSERT_EQ(files.size(), 4u);
+  std::ofstream(files[1], std::ios::trunc) << "garbage";
+  fs::resize_file(files[3], fs::file_size(files[3]) / 2);
+
+  for (const bool loop : {false, true}) {
+    auto source = OpenSource("pcd:" + dir + (loop ? "?loop=1" : ""), &error);
+    ASSERT_TRUE(source) << error;
+    std::vector<Frame> back;
+    Frame f;
+    while (back.size() < (loop ? 4u : 10u) &&
+           source->Next(&f, &error) == FrameSource::Status::kFrame)
+      back.push_back(f);
+    ASSERT_EQ(back.size(), loop ? 4u : 2u) << error;
+    const std::vector<std::int64_t> expected = {0, 2, 4, 6};
+    for (std::size_t i = 0; i < back.size(); ++i) {
+      EXPECT_EQ(back[i].sequence, expected[i]);
+      ExpectSameFrames({original[i % 2 * 2]}, {back[i]}, 0.0f);
+    }
+    EXPECT_EQ(source->Stats().skipped, loop ? 3u : 2u);  // the loop met file 2 again
+  }
+
+  std::ofstream(files[0], std::ios::trunc) << "garbage";
+  std::ofstream(files[2], std::ios::trunc);
+  auto none = OpenSource("pcd:" + dir + "?loop=1", &error);
+  ASSERT_TRUE(none) << error;
+  Frame f;
+  EXPECT_EQ(none->Next(&f, &error), FrameSource::Status::kError);
+  EXPECT_NE(error.find("no frame of pcd:" + dir), std::string::npos) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+}
+
+TEST(FileSources, ACorruptFileAloneInASequenceIsAnErrorNamingIt) {
   const std::string dir = FreshDir("corrupt");
   fs::create_directories(dir);
   IntrinsicsFile k{525, 525, 319.5, 239.5, 640, 480};
