@@ -8,6 +8,13 @@
 #include "io/mailbox.h"
 
 #include <OpenNI.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -19,6 +26,8 @@
 #include <optional>
 #include <thread>
 #include <vector>
+
+extern char** environ;
 
 namespace saccade {
 
@@ -45,6 +54,84 @@ bool InitializeOpenNI(std::string* error) {
   if (openni::OpenNI::initialize() != openni::STATUS_OK)
     return Fail(error, "libOpenNI2: initialization failed: " + LastOpenNIError());
   initialized = true;
+  return true;
+}
+
+// saccade-oni-check beside the running program (an installed layout), else the build's.
+std::string OniCheckBinary() {
+  char self[4096];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n > 0) {
+    std::string dir(self, static_cast<std::size_t>(n));
+    dir.erase(dir.rfind('/') + 1);
+    if (access((dir + "saccade-oni-check").c_str(), X_OK) == 0) return dir + "saccade-oni-check";
+  }
+  return SACCADE_ONI_CHECK_BINARY;
+}
+
+// Plays the recording to its end in a child process (saccade-oni-check) before this process
+// opens it: Debian's .oni driver crashes on crafted files (a string length or property record
+// that lies, a corrupt frame), and a crash there must not take Saccade with it. The child has
+// 30 s plus 1 s per 10 MB of file; its stderr line is the reason when it refuses the file.
+bool CheckOniRecording(const std::string& path, std::string* error) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return Fail(error, path + ": cannot open recording");
+  if (!S_ISREG(st.st_mode)) return Fail(error, path + ": not a regular file");
+  const std::string checker = OniCheckBinary();
+  int out[2];
+  if (pipe2(out, O_CLOEXEC) != 0)
+    return Fail(error, path + ": cannot check the recording: " + std::strerror(errno));
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, out[1], 2);
+  char* argv[] = {const_cast<char*>(checker.c_str()), const_cast<char*>(path.c_str()), nullptr};
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, checker.c_str(), &actions, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(out[1]);
+  if (rc != 0) {
+    close(out[0]);
+    return Fail(error,
+                path + ": cannot check the recording (" + checker + "): " + std::strerror(rc));
+  }
+  // Its stderr until it closes (the child ended) or the time is up.
+  const auto limit = std::chrono::seconds(30 + st.st_size / (10 << 20));
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  std::string said;
+  bool timed_out = false;
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+      timed_out = true;
+      break;
+    }
+    pollfd p{out[0], POLLIN, 0};
+    if (poll(&p, 1, static_cast<int>(left.count())) < 0 && errno != EINTR) break;
+    if (p.revents == 0) continue;
+    char buffer[512];
+    const ssize_t got = read(out[0], buffer, sizeof buffer);
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) break;
+    if (said.size() < 4096) said.append(buffer, static_cast<std::size_t>(got));
+  }
+  close(out[0]);
+  if (timed_out) kill(pid, SIGKILL);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (timed_out)
+    return Fail(error, path + ": libOpenNI2 did not finish playing it in " +
+                           std::to_string(limit.count()) + " s; refused");
+  if (WIFSIGNALED(status))
+    return Fail(error, path + ": libOpenNI2 crashed playing it (" + strsignal(WTERMSIG(status)) +
+                           "): a corrupt or crafted recording; refused");
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    said = said.substr(0, said.find('\n'));
+    return Fail(error, said.empty() ? path + ": refused by saccade-oni-check" : said);
+  }
   return true;
 }
 
@@ -722,13 +809,7 @@ std::unique_ptr<OpenNI2Source> OpenOpenNI2Device(const std::string& device,
 std::unique_ptr<OpenNI2Source> OpenOniPlayback(const std::string& path,
                                                const OniPlaybackOptions& options,
                                                const ColourOptions& colour, std::string* error) {
-  if (!InitializeOpenNI(error)) return nullptr;
-  if (FILE* f = std::fopen(path.c_str(), "rb")) {
-    std::fclose(f);
-  } else {
-    Fail(error, path + ": cannot open recording");
-    return nullptr;
-  }
+  if (!CheckOniRecording(path, error) || !InitializeOpenNI(error)) return nullptr;
   auto source = std::make_unique<PlaybackSource>(colour);
   if (!source->Open(path, options, error)) return nullptr;
   return source;

@@ -14,6 +14,7 @@
 #include <unistd.h>
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -77,6 +78,43 @@ const std::string kBom = "\xef\xbb\xbf";
 const std::string kConfigs = "configurations: [{name: a}]\n";
 
 std::string Scenario(const std::string& extra) { return "preset: static\n" + extra; }
+
+// Little-endian fields, as .oni files hold them.
+struct Bytes {
+  std::string s;
+  Bytes& U8(unsigned v) { return s += static_cast<char>(v & 0xFF), *this; }
+  Bytes& U32(std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) U8(v >> (8 * i));
+    return *this;
+  }
+  Bytes& U64(std::uint64_t v) { return U32(static_cast<std::uint32_t>(v)).U32(v >> 32); }
+  Bytes& Text(const std::string& t) { return s += t, *this; }
+  Bytes& Name(const std::string& t) {
+    return U32(static_cast<std::uint32_t>(t.size() + 1)).Text(t).U8(0);
+  }
+};
+
+// The start of an .oni as openni::Recorder writes one: the file header, the depth node added
+// (16z codec, 4 frames) and three of its integer properties, each record a 28-byte header and
+// its fields. `last_property` names the last property (xnDeviceMaxDepth in a true file): a
+// crafted file whose name has bytes over 127 made Debian's libOniFile crash.
+std::string OniStart(const std::string& last_property) {
+  Bytes oni;
+  oni.Text("NI10").U8(1).U8(0).U8(1).U8(0).U32(0);  // version 1.0.1.0
+  oni.U64(~0ull).U32(2);                            // no timestamp yet; the largest node id
+  const auto record = [&oni](std::uint32_t type, const Bytes& fields) {
+    oni.U32(0x0052494E).U32(type).U32(1);  // "NIR\0", the record's type, node 1
+    oni.U32(static_cast<std::uint32_t>(28 + fields.s.size())).U32(0).U64(0).Text(fields.s);
+  };
+  record(0x0D, Bytes().Name("Depth").U32(2).Text("16zT").U32(4).U64(0).U64(100000).U64(0));
+  const auto property = [&](const std::string& name, std::uint64_t value) {
+    record(0x03, Bytes().Name(name).U32(8).U64(value));
+  };
+  property("oniRequiredFrameSize", 614400);
+  property("xnIsGenerating", 1);
+  property(last_property, 10000);
+  return oni.s;
+}
 
 // ---- the corpus -------------------------------------------------------------------------
 
@@ -328,6 +366,9 @@ std::vector<BadInput> Corpus() {
   source("OniNotAnOni", {{"r.oni", "not an oni file at all"}}, "$D/r.oni", "$D/r.oni");
   source("OniEmpty", {{"r.oni", ""}}, "$D/r.oni", "$D/r.oni");
   source("OniUnknownMode", {}, "$D/r.oni?mode=slow", "mode must be realtime, fast or step");
+  source("OniCut", {{"r.oni", OniStart("xnDeviceMaxDepth")}}, "$D/r.oni", "$D/r.oni: cannot open");
+  source("OniCraftedPropertyName", {{"r.oni", OniStart("\xff\xff\xff\xffviceMaxDepth")}},
+         "$D/r.oni", "$D/r.oni: libOpenNI2 crashed playing it");
   source("Openni2UnknownRegistration", {}, "openni2://?registration=magic",
          "registration must be auto, device, saccade or none");
   source("Openni2UnknownOption", {}, "openni2://?exposure=3", "unknown option 'exposure'");
