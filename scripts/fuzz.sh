@@ -10,6 +10,9 @@
 #   FUZZ_INSTALL=0                            never install clang (the short run in make test)
 #   FUZZ_SEED=N                               libFuzzer's seed (the short run: 1, repeatable)
 #   FUZZ_FRESH=1                              start from the seed corpus alone (the short run)
+#   FUZZ_TIMEOUT=N                            seconds one input may take (default 10); libFuzzer
+#                                             counts wall time, so raise it for a run at a low
+#                                             priority beside other work
 #
 # The code under test is compiled here with coverage instrumentation; the rest of Saccade it
 # needs comes from BUILD_DIR's libraries, linked as saccaded is (its link line), so a target
@@ -89,11 +92,14 @@ for target in "${targets[@]}"; do
   mkdir -p "$out/$target"
   cp -n "$root/tests/fuzz/corpus/$target/"* "$out/$target/" 2>/dev/null || true
   echo "saccade fuzz: $target for $seconds s" >&2
-  (cd "$out" && "./$target-fuzz" "$target" -max_total_time="$seconds" -max_len=4096 \
-     -rss_limit_mb=2048 -timeout=10 -seed="${FUZZ_SEED:-0}" -print_final_stats=1 \
-     2>"$target.log") ||
+  # The CPU time it had, beside the wall time it ran (a shared machine gives it less).
+  (cd "$out" && TIMEFORMAT="cpu %U s user, %S s system" &&
+     { time "./$target-fuzz" "$target" -max_total_time="$seconds" -max_len=4096 \
+         -rss_limit_mb=2048 -timeout="${FUZZ_TIMEOUT:-10}" -seed="${FUZZ_SEED:-0}" \
+         -print_final_stats=1 2>"$target.log"; } 2>"$target.cpu") ||
     { tail -30 "$out/$target.log"; echo "saccade fuzz: $target found a crash (above)" >&2; exit 1; }
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb" "$out/$target.log" |
     sed "s/^/  $target: /"
+  sed "s/^/  $target: /" "$out/$target.cpu"
 done
 echo "saccade fuzz: no crash in ${targets[*]}" >&2

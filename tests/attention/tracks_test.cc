@@ -102,10 +102,16 @@ TEST(TrackSet, AFoundObjectIsHeldByTrackingAloneUntilItsRecheck) {
 // A source whose clock jumps (a replugged camera restarts its clock, a recording loops, a
 // clock steps by an hour): the motion prediction is bounded (at most three steps of the last
 // motion ahead, none backwards), so a held object stays held where it is, its pose finite.
+// The object moves 1 cm in the first frame interval (0.3 m/s): unbounded, an hour's jump
+// would put the prediction a kilometre away.
 TEST(TrackSet, TimestampsThatJumpBackForwardOrStandStillKeepTheTrackWhereTheObjectIs) {
   const Demo& d = TheDemo();
+  const Eigen::Vector3f step(0.01f, 0.0f, 0.0f);
+  Cloud before = d.demo.scene.cloud;  // the whole scene 1 cm back: the object's first place
+  for (PointT& p : before) p.getVector3fMap() -= step;
+  const Eigen::Matrix4f first = Eigen::Affine3f(Eigen::Translation3f(-step) * d.demo.truth).matrix();
   TrackSet tracks(TrackingOptions{});
-  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  tracks.Update(d.Frame(0, before, true), d.Models(), {d.Found(first)}, nullptr);
   tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
   const double times[] = {-100.0, 3600.0, 3600.0, 0.5, 1e9, 1e9 + 1.0 / 30};
   std::int64_t seq = 2;
