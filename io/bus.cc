@@ -2,9 +2,9 @@
 
 #include "core/fail.h"
 #include "io/log.h"
+#include "io/text.h"
 
 #include <poll.h>
-#include <sys/stat.h>
 #include <unistd.h>
 #include <lcm/lcm-cpp.hpp>
 #include <saccade/command_t.hpp>
@@ -38,9 +38,7 @@ bool CommandModelAllowed(const std::string& spec, const std::vector<std::string>
   if (!real) return Fail(why, "SWITCH_MODEL: no such file '" + spec + "'");
   const std::string path = real;
   std::free(real);
-  struct stat st {};
-  if (stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
-    return Fail(why, "SWITCH_MODEL: '" + spec + "' is not a regular file");
+  if (!IsRegularFile(path)) return Fail(why, "SWITCH_MODEL: '" + spec + "' is not a regular file");
   for (const auto& d : dirs) {
     char* dir = realpath(d.c_str(), nullptr);
     if (!dir) continue;

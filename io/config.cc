@@ -1,9 +1,8 @@
 #include "io/config.h"
 
-#include <sys/stat.h>
-
 #include "core/fail.h"
 #include "io/log.h"
+#include "io/text.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -147,11 +146,9 @@ bool ApplySchema(const YAML::Node& node, const ConfigSchema& schema, const std::
 bool LoadRoot(const std::string& path, YAML::Node* root, std::string* error) {
   // Regular files only, of a config's size: a folder made yaml-cpp's stream throw past its own
   // exceptions, and a FIFO or a device would block or never end.
-  struct stat st {};
-  if (stat(path.c_str(), &st) != 0) return Fail(error, path + ": cannot open file");
-  if (S_ISDIR(st.st_mode)) return Fail(error, path + ": is a directory, not a YAML file");
-  if (!S_ISREG(st.st_mode)) return Fail(error, path + ": not a regular file");
-  if (st.st_size > (16 << 20)) return Fail(error, path + ": larger than 16 MB, not a config");
+  std::uint64_t size = 0;
+  if (!StatRegularFile(path, "a YAML file", &size, error)) return false;
+  if (size > (16 << 20)) return Fail(error, path + ": larger than 16 MB, not a config");
   try {
     *root = YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {

@@ -7,7 +7,6 @@
 #include <lcm/lcm-cpp.hpp>
 #include <saccade/fixation_t.hpp>
 
-#include <sys/stat.h>
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
@@ -133,10 +132,9 @@ constexpr std::uint32_t kMaxChannel = 63;
 }  // namespace
 
 bool CheckLcmLog(const std::string& path, std::string* error) {
-  struct stat st {};
-  if (stat(path.c_str(), &st) != 0) return Fail(error, path + ": " + std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) return Fail(error, path + ": not a regular file");
-  if (st.st_size == 0) return Fail(error, path + ": empty file, not an lcm-logger log");
+  std::uint64_t size = 0;
+  if (!StatRegularFile(path, "an lcm-logger log", &size, error)) return false;
+  if (size == 0) return Fail(error, path + ": empty file, not an lcm-logger log");
   std::ifstream in(path, std::ios::binary);
   if (!in) return Fail(error, path + ": cannot read (" + std::strerror(errno) + ")");
   unsigned char sync[4] = {};

@@ -313,6 +313,13 @@ std::string SpecText(const SourceSpec& spec) {
   return spec.kind + ":" + spec.target;
 }
 
+// A number as a person would write it (1e+20, 2.5, 7).
+std::string FormatNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", v);
+  return text;
+}
+
 // Typed option readers: false with an error naming the spec and the option.
 bool OptionNumber(const SourceSpec& spec, const std::string& key, double fallback, double* out,
                   std::string* error) {
@@ -338,6 +345,17 @@ bool OptionRate(const SourceSpec& spec, double fallback, double* out, std::strin
   if (given != spec.options.end() && *out != 0 && (*out < 0.01 || *out > 1000))
     return Fail(error, "source '" + SpecText(spec) + "': option rate=" + given->second +
                            " is out of range (0: as fast as frames come, or 0.01-1000 Hz)");
+  return true;
+}
+
+// frames=N: a whole number, 1 to kMaxSequenceFrames.
+bool OptionFrames(const SourceSpec& spec, int fallback, int* out, std::string* error) {
+  double frames = fallback;
+  if (!OptionNumber(spec, "frames", fallback, &frames, error)) return false;
+  if (frames < 1 || frames > kMaxSequenceFrames || frames != std::floor(frames))
+    return Fail(error, "source '" + SpecText(spec) + "': frames=" + FormatNumber(frames) +
+                           " must be a whole number, 1-" + std::to_string(kMaxSequenceFrames));
+  *out = static_cast<int>(frames);
   return true;
 }
 
@@ -421,21 +439,18 @@ std::unique_ptr<FrameSource> OpenSynthetic(const SourceSpec& spec, std::string* 
                     "; or a YAML file)");
     return nullptr;
   }
-  double rate = scenario.rate_hz, frames = scenario.frames, seed = scenario.seed;
+  double rate = scenario.rate_hz, seed = scenario.seed;
   bool loop = false;
   if (!OptionRate(spec, scenario.rate_hz, &rate, error) ||
-      !OptionNumber(spec, "frames", scenario.frames, &frames, error) ||
+      !OptionFrames(spec, scenario.frames, &scenario.frames, error) ||
       !OptionNumber(spec, "seed", scenario.seed, &seed, error) ||
       !OptionBool(spec, "loop", &loop, error))
     return nullptr;
-  if (frames < 1 || frames > 1e7 || frames != std::floor(frames) || seed != std::floor(seed) ||
-      seed > 4294967295.0) {
-    Fail(error, "source 'synthetic:" + spec.target +
-                    "': frames and seed must be whole numbers, frames 1-10000000, seed "
-                    "0-4294967295");
+  if (seed != std::floor(seed) || seed > 4294967295.0) {
+    Fail(error, "source '" + SpecText(spec) + "': seed=" + FormatNumber(seed) +
+                    " must be a whole number, 0-4294967295");
     return nullptr;
   }
-  scenario.frames = static_cast<int>(frames);
   scenario.seed = static_cast<std::uint32_t>(seed);
   if (rate > 0) scenario.rate_hz = rate;  // the scene's clock follows the sensor's
   return std::make_unique<SequenceSource>(std::make_unique<ScenarioSequence>(scenario), rate, loop);
@@ -483,17 +498,11 @@ std::unique_ptr<FrameSource> OpenCapture(const SourceSpec& spec, std::string* er
   CaptureSequence s;
   LoadedCapture capture;
   if (!LoadCapture(spec, &s, &capture, error)) return nullptr;
-  double rate = s.rate_hz, frames = s.frames;
+  double rate = s.rate_hz;
   bool loop = false;
   if (!OptionRate(spec, s.rate_hz, &rate, error) ||
-      !OptionNumber(spec, "frames", s.frames, &frames, error) ||
-      !OptionBool(spec, "loop", &loop, error))
+      !OptionFrames(spec, s.frames, &s.frames, error) || !OptionBool(spec, "loop", &loop, error))
     return nullptr;
-  if (frames < 1 || frames > 1e7 || frames != std::floor(frames)) {
-    Fail(error, "source 'capture:" + spec.target + "': frames must be a whole number, 1-10000000");
-    return nullptr;
-  }
-  s.frames = static_cast<int>(frames);
   if (rate > 0) s.rate_hz = rate;
   return std::make_unique<SequenceSource>(
       std::make_unique<CaptureFrames>(std::move(s), std::move(capture)), rate, loop);

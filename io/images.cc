@@ -36,18 +36,10 @@ bool IsTiff(const std::string& path) { return EndsWith(path, ".tif") || EndsWith
 // anything is allocated for it.
 constexpr std::uint64_t kMaxPixels = 50'000'000;
 
-// A regular file (no FIFO or device is opened), or one line saying what it is instead.
-bool RegularFile(const std::string& path, std::string* error) {
-  struct stat st {};
-  if (stat(path.c_str(), &st) != 0) return Fail(error, path, "no such file");
-  if (!S_ISREG(st.st_mode)) return Fail(error, path, "not a regular file");
-  return true;
-}
-
 template <typename T>
 bool ReadPng(const std::string& path, std::uint32_t format, int channels, Image<T>* image,
              std::string* error) {
-  if (!RegularFile(path, error)) return false;
+  if (!StatRegularFile(path, "an image", nullptr, error)) return false;
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
   if (!png_image_begin_read_from_file(&png, path.c_str()))
@@ -106,7 +98,7 @@ struct TiffCloser {
 // Reads a strip or tiled TIFF of `bits`-bit samples; keeps the first `keep` channels.
 template <typename T>
 bool ReadTiff(const std::string& path, int keep, Image<T>* image, std::string* error) {
-  if (!RegularFile(path, error)) return false;
+  if (!StatRegularFile(path, "an image", nullptr, error)) return false;
   TIFFSetErrorHandler(nullptr);
   TIFFSetWarningHandler(nullptr);
   std::unique_ptr<TIFF, TiffCloser> tif(TIFFOpen(path.c_str(), "r"));

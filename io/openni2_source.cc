@@ -6,13 +6,13 @@
 #include "io/frame_pairer.h"
 #include "io/images.h"
 #include "io/mailbox.h"
+#include "io/text.h"
 
 #include <OpenNI.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
-#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -74,9 +74,8 @@ std::string OniCheckBinary() {
 // that lies, a corrupt frame), and a crash there must not take Saccade with it. The child has
 // 30 s plus 1 s per 10 MB of file; its stderr line is the reason when it refuses the file.
 bool CheckOniRecording(const std::string& path, std::string* error) {
-  struct stat st {};
-  if (stat(path.c_str(), &st) != 0) return Fail(error, path + ": cannot open recording");
-  if (!S_ISREG(st.st_mode)) return Fail(error, path + ": not a regular file");
+  std::uint64_t size = 0;
+  if (!StatRegularFile(path, "a recording", &size, error)) return false;
   const std::string checker = OniCheckBinary();
   int out[2];
   if (pipe2(out, O_CLOEXEC) != 0)
@@ -97,7 +96,7 @@ bool CheckOniRecording(const std::string& path, std::string* error) {
                 path + ": cannot check the recording (" + checker + "): " + std::strerror(rc));
   }
   // Its stderr until it closes (the child ended) or the time is up.
-  const auto limit = std::chrono::seconds(30 + st.st_size / (10 << 20));
+  const auto limit = std::chrono::seconds(30 + size / (10 << 20));
   const auto deadline = std::chrono::steady_clock::now() + limit;
   std::string said;
   bool timed_out = false;

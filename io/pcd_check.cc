@@ -1,10 +1,9 @@
 #include "io/pcd_check.h"
 
 #include "core/fail.h"
+#include "io/text.h"
 
 #include <pcl/io/lzf.h>
-
-#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -266,15 +265,12 @@ bool CheckPcdBytes(const std::string& name, const std::string& bytes, PcdHeader*
 }
 
 bool CheckPcdFile(const std::string& path, PcdHeader* header, std::string* error) {
-  struct stat st {};
-  if (stat(path.c_str(), &st) != 0) return Fail(error, path, "no such file");
-  if (S_ISDIR(st.st_mode)) return Fail(error, path, "is a directory, not a PCD file");
-  if (!S_ISREG(st.st_mode)) return Fail(error, path, "not a regular file (a device or a pipe?)");
-  if (static_cast<std::uint64_t>(st.st_size) > kMaxFileBytes)
-    return Fail(error, path, "larger than 4 GB");
+  std::uint64_t size = 0;
+  if (!StatRegularFile(path, "a PCD file", &size, error)) return false;
+  if (size > kMaxFileBytes) return Fail(error, path, "larger than 4 GB");
   std::ifstream in(path, std::ios::binary);
   if (!in) return Fail(error, path, "cannot open (permissions?)");
-  std::string bytes(static_cast<std::size_t>(st.st_size), '\0');
+  std::string bytes(static_cast<std::size_t>(size), '\0');
   if (!in.read(bytes.data(), static_cast<std::streamsize>(bytes.size())))
     return Fail(error, path, "cannot read");
   return CheckPcdBytes(path, bytes, header, error);

@@ -1,7 +1,12 @@
 // Small string helpers shared by io's file handling.
 #pragma once
 
+#include "core/fail.h"
+
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <system_error>
@@ -28,6 +33,20 @@ inline bool IsDirectory(const std::string& path) {
 inline bool IsRegularFile(const std::string& path) {
   std::error_code ec;
   return std::filesystem::is_regular_file(path, ec);
+}
+
+/// Asks what `path` is without opening it (a FIFO or a device would block or never end): true
+/// with its size (when `size` is given) for a regular file (links followed), else one line
+/// naming the path and what it is instead of `kind` ("a PCD file").
+inline bool StatRegularFile(const std::string& path, const std::string& kind, std::uint64_t* size,
+                            std::string* error) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) return Fail(error, path + ": no such file");
+  if (S_ISDIR(st.st_mode)) return Fail(error, path + ": is a directory, not " + kind);
+  if (!S_ISREG(st.st_mode))
+    return Fail(error, path + ": not a regular file (a device or a pipe?), not " + kind);
+  if (size) *size = static_cast<std::uint64_t>(st.st_size);
+  return true;
 }
 
 /// The regular files of `dir` (links followed), sorted by path; none when it cannot be listed.

@@ -104,7 +104,8 @@ bool CaptureSequence::IsValid(std::string* error) const {
   if (object < 1) return Fail(error, "object must be >= 1");
   for (int o : others)
     if (o < 1 || o == object) return Fail(error, "others must be objects >= 1 other than object");
-  if (frames < 1 || frames > 10'000'000) return Fail(error, "frames must be 1-10000000");
+  if (frames < 1 || frames > kMaxSequenceFrames)
+    return Fail(error, "frames must be 1-" + std::to_string(kMaxSequenceFrames));
   if (!(rate_hz >= 0.01 && rate_hz <= 1000)) return Fail(error, "rate_hz must be 0.01-1000 Hz");
   if (occluded_frames < 0) return Fail(error, "occluded_frames must be >= 0");
   if (!((occluder_size_m.array() > 0).all())) return Fail(error, "occluder_size_m must be > 0");

@@ -92,7 +92,8 @@ Eigen::Isometry3f PlanarPose(const Trajectory& motion, double t) {
 float Trajectory::YawAt(double t) const { return yaw_rad + yaw_rate_radps * static_cast<float>(t); }
 
 bool Scenario::IsValid(std::string* error) const {
-  if (frames < 1 || frames > 10'000'000) return Fail(error, "frames must be 1-10000000");
+  if (frames < 1 || frames > kMaxSequenceFrames)
+    return Fail(error, "frames must be 1-" + std::to_string(kMaxSequenceFrames));
   if (!(rate_hz >= 0.01 && rate_hz <= 1000)) return Fail(error, "rate_hz must be 0.01-1000 Hz");
   if (!(table_height_m > 0) || !std::isfinite(table_height_m))
     return Fail(error, "table_height_m must be > 0");

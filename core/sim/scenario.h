@@ -50,6 +50,9 @@ struct Trajectory {
   }
 };
 
+/// The most frames a scenario or a capture sequence may have (a day at 30 Hz is 2.6 M).
+constexpr int kMaxSequenceFrames = 10'000'000;
+
 /// Everything that makes a sequence. Frame i is captured at t = i / rate_hz.
 struct Scenario {
   std::string name;

@@ -109,7 +109,8 @@ TEST(TrackSet, TimestampsThatJumpBackForwardOrStandStillKeepTheTrackWhereTheObje
   const Eigen::Vector3f step(0.01f, 0.0f, 0.0f);
   Cloud before = d.demo.scene.cloud;  // the whole scene 1 cm back: the object's first place
   for (PointT& p : before) p.getVector3fMap() -= step;
-  const Eigen::Matrix4f first = Eigen::Affine3f(Eigen::Translation3f(-step) * d.demo.truth).matrix();
+  const Eigen::Matrix4f first =
+      Eigen::Affine3f(Eigen::Translation3f(-step) * d.demo.truth).matrix();
   TrackSet tracks(TrackingOptions{});
   tracks.Update(d.Frame(0, before, true), d.Models(), {d.Found(first)}, nullptr);
   tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);

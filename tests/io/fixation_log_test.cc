@@ -111,8 +111,9 @@ TEST(CheckLcmLog, WhatIsNotAnLcmLogIsOneLine) {
   EXPECT_FALSE(CheckLcmLog(dir + "saccade_text.lcmlog", &error));
   EXPECT_NE(error.find("not an lcm-logger log"), std::string::npos) << error;
   EXPECT_FALSE(CheckLcmLog("/dev/zero", &error));
-  EXPECT_EQ(error, "/dev/zero: not a regular file");
+  EXPECT_EQ(error, "/dev/zero: not a regular file (a device or a pipe?), not an lcm-logger log");
   EXPECT_FALSE(CheckLcmLog(dir, &error));
+  EXPECT_EQ(error, dir + ": is a directory, not an lcm-logger log");
 }
 
 }  // namespace
