@@ -321,7 +321,8 @@ std::string PublishStage::RunLine(double seconds, const SourceStats& source) con
   std::string run = line;
   if (source.skipped > 0)
     run += "; " + std::to_string(source.skipped) + " unusable frame(s) of the source skipped";
-  if (unsent_ > 0) run += "; LCM did not send " + std::to_string(unsent_) + " of them";
+  if (unsent_ > 0)
+    run += "; LCM did not send " + std::to_string(unsent_) + " of the frames processed";
   return run;
 }
 

@@ -33,8 +33,8 @@ struct StatusReport {
   std::string source_state;
   bool paused = false;
   std::int64_t frames_in = 0, frames_processed = 0, frames_dropped = 0, source_reconnects = 0;
-  std::int64_t frames_skipped = 0;  // the source could not read them (a corrupt file)
-  std::int64_t frames_unsent = 0;  // processed, but LCM refused to send their detections
+  std::int64_t frames_skipped = 0;  // frames the source could not read (a corrupt file)
+  std::int64_t frames_unsent = 0;   // processed, but LCM refused their detections or fixation
   float fps = 0;
   std::int64_t commands_accepted = 0, commands_rejected = 0;
   int fixation_lag_max = 0;

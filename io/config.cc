@@ -66,6 +66,10 @@ Setter Vector2(Eigen::Vector2f* field) {
 // names nothing here: refused, where yaml-cpp's as<std::string>() would throw.
 bool KeyText(const YAML::Node& key, const std::string& where, const std::string& path,
              std::string* text, std::string* error) {
+  if (key.IsNull()) {  // `~: 1`: no name, an unknown key as before
+    *text = "null";
+    return true;
+  }
   if (!key.IsScalar()) {
     return Fail(error, path + ": line " + std::to_string(key.Mark().line + 1) + ": a key" +
                            (where.empty() ? "" : " in '" + where + "'") +

@@ -72,7 +72,9 @@ std::string OniCheckBinary() {
 // Plays the recording to its end in a child process (saccade-oni-check) before this process
 // opens it: Debian's .oni driver crashes on crafted files (a string length or property record
 // that lies, a corrupt frame), and a crash there must not take Saccade with it. The child has
-// 30 s plus 1 s per 10 MB of file; its stderr line is the reason when it refuses the file.
+// 30 s plus 1 s per 10 MB of file, in a process group of its own with no signal blocked (a
+// daemon's signal thread blocks SIGTERM and the like, and a child inherits that); its stderr
+// line is the reason when it refuses the file.
 bool CheckOniRecording(const std::string& path, std::string* error) {
   std::uint64_t size = 0;
   if (!StatRegularFile(path, "a recording", &size, error)) return false;
@@ -80,58 +82,79 @@ bool CheckOniRecording(const std::string& path, std::string* error) {
   int out[2];
   if (pipe2(out, O_CLOEXEC) != 0)
     return Fail(error, path + ": cannot check the recording: " + std::strerror(errno));
+  fcntl(out[0], F_SETFL, O_NONBLOCK);  // a grandchild keeping stderr open must not block us
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_adddup2(&actions, out[1], 2);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  sigset_t none, all;
+  sigemptyset(&none);
+  sigfillset(&all);
+  posix_spawnattr_setsigmask(&attributes, &none);
+  posix_spawnattr_setsigdefault(&attributes, &all);
+  posix_spawnattr_setpgroup(&attributes, 0);
+  posix_spawnattr_setflags(&attributes,
+                           POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETPGROUP);
   char* argv[] = {const_cast<char*>(checker.c_str()), const_cast<char*>(path.c_str()), nullptr};
   pid_t pid = -1;
-  const int rc = posix_spawn(&pid, checker.c_str(), &actions, nullptr, argv, environ);
+  const int rc = posix_spawn(&pid, checker.c_str(), &actions, &attributes, argv, environ);
   posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
   close(out[1]);
   if (rc != 0) {
     close(out[0]);
     return Fail(error,
                 path + ": cannot check the recording (" + checker + "): " + std::strerror(rc));
   }
-  // Its stderr until it closes (the child ended) or the time is up.
+  // Its stderr, until the child has ended or the time is up (then its group is killed).
   const auto limit = std::chrono::seconds(30 + size / (10 << 20));
   const auto deadline = std::chrono::steady_clock::now() + limit;
   std::string said;
-  bool timed_out = false;
-  for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) {
-      timed_out = true;
+  const auto drain = [&] {
+    char buffer[512];
+    ssize_t got;
+    while ((got = read(out[0], buffer, sizeof buffer)) > 0)
+      if (said.size() < 4096) said.append(buffer, static_cast<std::size_t>(got));
+    return got == 0;  // end of file
+  };
+  int status = 0;
+  bool ended = false, closed = false;
+  while (!ended) {
+    const pid_t waited = waitpid(pid, &status, WNOHANG);
+    if (waited == pid || (waited < 0 && errno != EINTR)) {
+      ended = waited == pid;
       break;
     }
-    pollfd p{out[0], POLLIN, 0};
-    if (poll(&p, 1, static_cast<int>(left.count())) < 0 && errno != EINTR) break;
-    if (p.revents == 0) continue;
-    char buffer[512];
-    const ssize_t got = read(out[0], buffer, sizeof buffer);
-    if (got < 0 && errno == EINTR) continue;
-    if (got <= 0) break;
-    if (said.size() < 4096) said.append(buffer, static_cast<std::size_t>(got));
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) break;
+    pollfd p{closed ? -1 : out[0], POLLIN, 0};
+    if (poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 100))) < 0 && errno != EINTR)
+      break;
+    if (p.revents != 0) closed = drain();
   }
+  drain();
   close(out[0]);
-  if (timed_out) kill(pid, SIGKILL);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (timed_out)
+  if (!ended) {
+    kill(-pid, SIGKILL);
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
     return Fail(error, path + ": libOpenNI2 did not finish playing it in " +
                            std::to_string(limit.count()) + " s; refused");
-  if (WIFSIGNALED(status))
-    return Fail(error, path + ": libOpenNI2 crashed playing it (" + strsignal(WTERMSIG(status)) +
-                           "): a corrupt or crafted recording; refused");
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    said = said.substr(0, said.find('\n'));
-    return Fail(error, said.empty() ? path + ": refused by saccade-oni-check" : said);
   }
-  return true;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
+  // Refused: its one line, which names the file. Anything else is a crash: a signal, or (in a
+  // sanitized build) the sanitizer that caught it ending the child with its report.
+  said = said.substr(0, said.find('\n'));
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 1 && said.rfind(path + ": ", 0) == 0)
+    return Fail(error, said);
+  const std::string how = WIFSIGNALED(status) ? strsignal(WTERMSIG(status))
+                                              : "exit " + std::to_string(WEXITSTATUS(status));
+  return Fail(error, path + ": libOpenNI2 crashed playing it (" + how +
+                         "): a corrupt or crafted recording; refused");
 }
 
 // A pinhole model from the stream's fields of view, with the centre at the middle of the

@@ -6,7 +6,9 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <system_error>
@@ -41,7 +43,8 @@ inline bool IsRegularFile(const std::string& path) {
 inline bool StatRegularFile(const std::string& path, const std::string& kind, std::uint64_t* size,
                             std::string* error) {
   struct stat st {};
-  if (stat(path.c_str(), &st) != 0) return Fail(error, path + ": no such file");
+  if (stat(path.c_str(), &st) != 0)
+    return Fail(error, path + ": " + (errno == ENOENT ? "no such file" : std::strerror(errno)));
   if (S_ISDIR(st.st_mode)) return Fail(error, path + ": is a directory, not " + kind);
   if (!S_ISREG(st.st_mode))
     return Fail(error, path + ": not a regular file (a device or a pipe?), not " + kind);

@@ -6,6 +6,8 @@
 //
 // Exit 0: every depth frame was played. 1: libOpenNI2 refused the file (one line on stderr).
 // Killed by a signal: libOpenNI2 crashed on it. The caller bounds the time it may take.
+#include "core/fail.h"
+
 #include <OpenNI.h>
 
 #include <cstdio>
@@ -15,19 +17,12 @@
 
 namespace {
 
-std::string Oneline(std::string text) {
-  for (char& c : text)
-    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
-  while (!text.empty() && text.back() == ' ') text.pop_back();
-  while (!text.empty() && text.front() == ' ') text.erase(0, 1);
-  return text;
-}
-
 // Ends at once: an orderly shutdown races libOniFile's player thread (seen to crash).
 [[noreturn]] void Refuse(const std::string& path, const std::string& what) {
-  const std::string detail = Oneline(openni::OpenNI::getExtendedError());
-  std::fprintf(stderr, "%s: %s%s%s\n", path.c_str(), what.c_str(), detail.empty() ? "" : ": ",
-               detail.c_str());
+  const std::string detail = saccade::OneLine(openni::OpenNI::getExtendedError());
+  std::fprintf(
+      stderr, "%s\n",
+      saccade::OneLine(path + ": " + what + (detail.empty() ? "" : ": " + detail)).c_str());
   std::fflush(stderr);
   _exit(1);
 }
@@ -51,24 +46,33 @@ int main(int argc, char** argv) {
     Refuse(path, "no depth stream");
   const int frames = control->getNumberOfFrames(depth);
   if (frames <= 0) Refuse(path, "the recording has no depth frame");
-  // Every record is decoded as the player reaches it, read or not: colour frames too once
-  // their stream runs. As fast as it can, repeating (a wrap means the whole file was played).
+  // Manual playback, as `?mode=step` plays (io/openni2_source.cc, PlaybackSource): each wait
+  // makes the player read and decode the file's next frame, of either stream. Repeating, so
+  // the whole file has been played once the depth frame numbers go back after `frames` reads.
+  // The numbers are the file's own: a file whose numbers never go back is refused after twice
+  // its frame count, not played for ever.
   if (device.hasSensor(openni::SENSOR_COLOR) &&
-      colour.create(device, openni::SENSOR_COLOR) == openni::STATUS_OK)
-    colour.start();
-  control->setSpeed(0.0f);
+      colour.create(device, openni::SENSOR_COLOR) == openni::STATUS_OK &&
+      colour.start() != openni::STATUS_OK)
+    Refuse(path, "cannot start its colour stream");
+  control->setSpeed(-1.0f);
   control->setRepeatEnabled(true);
   if (depth.start() != openni::STATUS_OK) Refuse(path, "cannot start playback");
+  openni::VideoStream* streams[] = {&depth, &colour};
+  const int count = colour.isValid() ? 2 : 1;
+  long reads = 0;
   int last = -1;
   for (;;) {
-    openni::VideoStream* streams[] = {&depth};
     int ready = -1;
-    if (openni::OpenNI::waitForAnyStream(streams, 1, &ready, 5000) != openni::STATUS_OK)
+    if (openni::OpenNI::waitForAnyStream(streams, count, &ready, 5000) != openni::STATUS_OK)
       Refuse(path, "no frame for 5 s");
     openni::VideoFrameRef frame;
-    if (depth.readFrame(&frame) != openni::STATUS_OK) Refuse(path, "a frame cannot be read");
+    if (streams[ready]->readFrame(&frame) != openni::STATUS_OK)
+      Refuse(path, "a frame cannot be read");
+    if (ready != 0) continue;
     const int index = frame.getFrameIndex();
-    if (index >= frames || index < last) break;  // the last frame, or the player wrapped
+    if (++reads > frames && index < last) break;  // the player went back to the start
+    if (reads > 2L * frames + 10) Refuse(path, "its frame numbers never go back to the start");
     last = index;
   }
   std::fflush(stderr);

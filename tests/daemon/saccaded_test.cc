@@ -544,6 +544,17 @@ class MulticastRoute {
 // fails meanwhile (ENETUNREACH); the daemon must go on, count the frames it could not send,
 // and publish again once the route is back. Needs root (a new network namespace).
 TEST(Saccaded, ANetworkThatRefusesToSendIsSurvivedCountedAndResumed) {
+  // Back to the host's network at the end, whatever fails: later tests of this binary (run
+  // outside ctest) need it.
+  const int host = open("/proc/self/ns/net", O_RDONLY | O_CLOEXEC);
+  ASSERT_GE(host, 0) << std::strerror(errno);
+  struct BackToHost {
+    int fd;
+    ~BackToHost() {
+      setns(fd, CLONE_NEWNET);
+      close(fd);
+    }
+  } back_to_host{host};
   if (unshare(CLONE_NEWNET) != 0)
     GTEST_SKIP() << "no network namespace of its own (needs root): " << std::strerror(errno);
   MulticastRoute route;
@@ -586,7 +597,8 @@ TEST(Saccaded, ANetworkThatRefusesToSendIsSurvivedCountedAndResumed) {
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
   err = ReadFile(box.Path("err"));
-  EXPECT_NE(err.find(" of them"), std::string::npos) << err;  // the run line counts them
+  EXPECT_TRUE(std::regex_search(err, std::regex("LCM did not send [1-9][0-9]* of the frames")))
+      << err;  // the run line counts them
   EXPECT_EQ(err.find("error"), std::string::npos) << err;
 }
 
