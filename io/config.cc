@@ -212,10 +212,11 @@ bool LoadScenario(const std::string& path, Scenario* scenario, std::string* erro
     return Fail(error,
                 path + ": key 'preset': required (one of the named scenarios to start from)");
   }
-  const auto preset = ScenarioPreset(root["preset"].as<std::string>());
+  if (!root["preset"].IsScalar())  // a list or a mapping: yaml-cpp's as<std::string> throws
+    return Fail(error, path + ": key 'preset': expected a scenario's name");
+  const auto preset = ScenarioPreset(root["preset"].Scalar());
   if (!preset) {
-    return Fail(error, path + ": key 'preset': unknown scenario '" +
-                           root["preset"].as<std::string>() + "'");
+    return Fail(error, path + ": key 'preset': unknown scenario '" + root["preset"].Scalar() + "'");
   }
   Scenario& s = *scenario;
   s = *preset;

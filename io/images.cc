@@ -122,11 +122,21 @@ bool ReadTiff(const std::string& path, int keep, Image<T>* image, std::string* e
                 "a TIFF of " + std::to_string(w) + "x" + std::to_string(h) + " pixels (1 to " +
                     std::to_string(kMaxPixels) + ")");
   if (TIFFIsTiled(tif.get())) return Fail(error, path, "tiled TIFF is not supported");
+  // Rows must hold w x spp samples, interleaved: YCbCr's subsampled rows are shorter (a colour
+  // TIFF so made was read past its row buffer, found by the image fuzzer), planar ones hold one
+  // channel at a time.
+  std::uint16_t planar = PLANARCONFIG_CONTIG, photometric = 0;
+  TIFFGetFieldDefaulted(tif.get(), TIFFTAG_PLANARCONFIG, &planar);
+  TIFFGetField(tif.get(), TIFFTAG_PHOTOMETRIC, &photometric);
+  const tmsize_t scanline = TIFFScanlineSize(tif.get());
+  if (planar != PLANARCONFIG_CONTIG || photometric == PHOTOMETRIC_YCBCR || scanline <= 0 ||
+      static_cast<std::uint64_t>(scanline) < static_cast<std::uint64_t>(w) * spp * sizeof(T))
+    return Fail(error, path, "only TIFFs with interleaved, unsubsampled samples are supported");
   image->width = static_cast<int>(w);
   image->height = static_cast<int>(h);
   image->channels = keep;
   image->data.assign(static_cast<std::size_t>(w) * h * keep, 0);
-  std::vector<T> row(static_cast<std::size_t>(TIFFScanlineSize(tif.get())) / sizeof(T) + spp);
+  std::vector<T> row(static_cast<std::size_t>(scanline) / sizeof(T) + spp);
   for (std::uint32_t y = 0; y < h; ++y) {
     if (TIFFReadScanline(tif.get(), row.data(), y, 0) < 0)
       return Fail(error, path, "corrupt TIFF at row " + std::to_string(y));

@@ -405,6 +405,7 @@ std::vector<BadInput> Corpus() {
   scenario("NotYaml", "preset: [demo\n", "line");
   scenario("AMapForANumber", Scenario("frames: {a: 1}\n"), "frames");
   scenario("AListForANumber", Scenario("frames: [1, 2]\n"), "frames");
+  scenario("PresetAMapping", "preset:\n p t:\n", "key 'preset': expected a scenario's name");
   scenario("AMapForAKey", Scenario("{frames: 1}: 2\n"), "a key is a list or a mapping");
   scenario("AListForAKeyInASection", Scenario("noise: {[a]: 1}\n"), "in 'noise'");
 
