@@ -190,7 +190,7 @@ TEST(PcdCheck, TheViewpointSurvivesASaveAndALoad) {
 TEST(PcdCheck, DevicesPipesAndFoldersAreRefusedWithoutBeingRead) {
   std::string error;
   EXPECT_FALSE(LoadCloud("/dev/zero", &error));
-  EXPECT_EQ(error, "/dev/zero: not a regular file (a device or a pipe?)");
+  EXPECT_EQ(error, "/dev/zero: not a regular file (a device or a pipe?), not a PCD file");
   const std::string fifo = ::testing::TempDir() + "saccade_fifo_" + std::to_string(getpid());
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
   EXPECT_FALSE(LoadCloud(fifo, &error));  // would block forever if it were opened
