@@ -17,19 +17,16 @@
 
 namespace {
 
-constexpr const char* kUsage =
-    R"(usage: saccaded [--config FILE.yaml] [--source SPEC] [--model M.pcd]
-                [--lcm-url URL]
-
-Tracks a known object in a depth stream and publishes, per frame, its detections and the
-attention loop's fixation over LCM (docs/LCM.md). Without --config Saccade's defaults apply
-(configs/saccaded.yaml writes them out; configs/paper.yaml holds the paper's); the flags
-override the file. SIGTERM/SIGINT: finish the frames in flight and exit 0. SIGHUP:
-reload the config file (a bad one is reported and the running one kept).
+constexpr const char* kAbout =
+    "Tracks a known object in a depth stream and publishes, per frame, its detections and the "
+    "attention loop's fixation over LCM (docs/LCM.md). Without --config Saccade's defaults "
+    "apply (configs/saccaded.yaml writes them out, configs/paper.yaml holds the paper's); the "
+    "flags override the file.";
+constexpr const char* kFooter = R"(signals: SIGTERM/SIGINT finish the frames in flight and exit 0; SIGHUP reloads the config
+file (a bad one is reported and the running one kept).
 
 exit codes: 0 stopped cleanly or the source ended, 1 the source, a model or LCM failed,
-            2 bad usage or configuration
-)";
+            2 bad usage or configuration)";
 
 // The file, then the flags over it.
 bool LoadSettings(const saccade::Args& args, saccade::DaemonSettings* settings,
@@ -56,16 +53,15 @@ int main(int argc, char** argv) {
   // write fails instead.
   std::signal(SIGPIPE, SIG_IGN);
   const std::vector<std::string> argv_list(argv + 1, argv + argc);
-  Args args;
+  Args args("saccaded", kAbout);
+  args.Value("config", "FILE.yaml", "the settings file; every key is in configs/saccaded.yaml")
+      .Value("source", "SPEC", "where frames come from, over the file's 'source' (see saccade "
+             "record --help; docs/SOURCES.md)")
+      .Value("model", "M.pcd", "the object's model, over the file's 'model'")
+      .Value("lcm-url", "URL", "the LCM network, over the file's 'lcm.url'")
+      .Footer(kFooter);
+  if (auto code = args.Parse(argv_list, std::cout, std::cerr)) return *code;
   std::string error;
-  if (!args.Parse(argv_list, {"config", "source", "model", "lcm-url"}, {"help"}, &error)) {
-    std::cerr << "saccaded: " << error << " (see saccaded --help)\n";
-    return kExitUsage;
-  }
-  if (args.Has("help")) {
-    std::cout << kUsage;
-    return kExitOk;
-  }
   DaemonSettings settings;
   if (!LoadSettings(args, &settings, &error)) {
     std::cerr << "saccaded: error: " << error << "\n";

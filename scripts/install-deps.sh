@@ -10,6 +10,7 @@ packages=(
   liblcm-dev liblcm-bin libglib2.0-dev
   libtbb-dev libyaml-cpp-dev libopencv-contrib-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libtiff-dev
+  libcli11-dev libsystemd-dev
   gnuplot-nox
 )
 

@@ -42,13 +42,24 @@ struct Tally {
 }  // namespace
 
 int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args;
+  Args args("saccade bench-track",
+             "Runs the tracker on a sequence with truth at the sensor's rate (frames it has no "
+             "time for are dropped): the share of visible frames within tolerance, frames to "
+             "re-acquire, frames on a wrong place, costs. The last line is one JSON object.");
+  args.Value("source", "SPEC", "the frames and their truth (see saccade record --help for "
+             "SPEC) (required)")
+      .Value("model", "M[,M2,...]", "the models, the target first; model j is scored against "
+             "the frame's truth j (required)")
+      .Value("config", "FILE.yaml", "saccaded's settings (configs/saccaded.yaml)")
+      .Value("name", "NAME", "the sequence's name in the report (default: the source)")
+      .Value("rate", "HZ", "the sensor's rate, frames a second (default: 30)")
+      .Value("tolerance-cm", "C", "a frame is tracked within C centimetres (default: 1)")
+      .Value("tolerance-deg", "D", "... and D degrees of the truth (default: 2)")
+      .Value("wrong-cm", "W", "a detection over W centimetres off is on a wrong place "
+             "(default: 5)")
+      .Value("frames-out", "F.jsonl", "write one JSON line a frame");
+  if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
-  if (!args.Parse(argv,
-                  {"source", "model", "config", "name", "rate", "tolerance-cm", "tolerance-deg",
-                   "wrong-cm", "frames-out"},
-                  {}, &error))
-    return Usage(err, "bench-track", error);
   if (!args.Has("source") || !args.Has("model"))
     return Usage(err, "bench-track", "--source and --model are required");
   const auto number = [&](const char* flag, double fallback) -> std::optional<double> {

@@ -155,11 +155,20 @@ double Median(std::vector<double> v) {
 }  // namespace
 
 int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args;
+  Args args("saccade recognize",
+             "Finds the model in one scene and prints each instance's pose (camera frame, "
+             "metres), its centroid and its votes.");
+  args.Value("model", "M.pcd", "the object's model: a PCD cloud in metres (required)")
+      .Value("scene", "S.pcd", "the scene: an organized or unorganized PCD cloud (required)")
+      .Value("fovea", "x,y,z", "the fixation point, in metres in the camera frame (required "
+             "unless --plain)")
+      .Switch("plain", "recognize on the whole scene, without foveation (the gold standard)")
+      .Value("config", "FILE.yaml", "recognition settings over Saccade's defaults "
+             "(configs/saccaded.yaml lists them)")
+      .Value("threads", "N", "worker threads (default: one per core)")
+      .Switch("json", "print one JSON object instead of text");
+  if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
-  if (!args.Parse(argv, {"model", "scene", "fovea", "config", "threads"}, {"plain", "json"},
-                  &error))
-    return Usage(err, "recognize", error);
   SceneQuery query;
   query.foveated = !args.Has("plain");
   if (args.Has("fovea")) {
@@ -243,11 +252,19 @@ double TotalMedian(const BenchRun& run) {
 }  // namespace
 
 int RunBench(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args;
+  Args args("saccade bench",
+             "Times plain recognition (the gold standard) against foveated recognition on one "
+             "frame, stage by stage; medians over --frames runs.");
+  args.Value("model", "M.pcd", "the object's model: a PCD cloud in metres (required)")
+      .Value("scene", "S.pcd", "the scene: a PCD cloud (required)")
+      .Value("fovea", "x,y,z", "the fixation point, in metres in the camera frame (required)")
+      .Value("truth", "POSE.txt", "the model's true pose (a 4x4 matrix): score both runs")
+      .Value("frames", "N", "runs of each pipeline (default: 10)")
+      .Value("config", "FILE.yaml", "recognition settings over Saccade's defaults")
+      .Value("threads", "N", "worker threads (default: one per core)")
+      .Switch("json", "print one JSON object instead of text");
+  if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
-  if (!args.Parse(argv, {"model", "scene", "fovea", "truth", "frames", "config", "threads"},
-                  {"json"}, &error))
-    return Usage(err, "bench", error);
   if (!args.Has("fovea")) return Usage(err, "bench", "missing --fovea x,y,z");
   auto fovea = Args::ParseVector3(args.Get("fovea"));
   if (!fovea)
@@ -357,9 +374,12 @@ int RunBench(const std::vector<std::string>& argv, std::ostream& out, std::ostre
 }
 
 int RunDemo(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args;
+  Args args("saccade demo",
+             "Renders a synthetic Kinect scene and finds in it a target modelled from another "
+             "capture. Exit 1 when the target is not found.");
+  args.Value("seed", "N", "the scene's random seed, a whole number >= 1 (default: 1)");
+  if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
-  if (!args.Parse(argv, {"seed"}, {}, &error)) return Usage(err, "demo", error);
   const auto seed = Args::ParsePositiveInt(args.Get("seed", "1"));
   if (!seed) return Usage(err, "demo", "--seed must be a whole number >= 1");
   const CameraIntrinsics kinect;

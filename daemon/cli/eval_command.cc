@@ -118,14 +118,33 @@ std::optional<int> LoadDatasetScenes(const Args& args, std::optional<float> sphe
 }  // namespace
 
 int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args;
+  Args args("saccade eval",
+             "Runs recognition configurations over frames with ground truth (--dataset and "
+             "--model) or over labelled cross-capture cases (--cases); writes Table 7 style "
+             "tables (CSV, Markdown), every trial's counts and stage times, TP/FP against the "
+             "distance threshold, the fovea-distance sweep, and their PNG plots (gnuplot).");
+  args.Value("configs", "FILE.yaml", "the configurations to compare (required; "
+             "configs/paper-configs.yaml)")
+      .Value("dataset", "DIR|SPEC|FILE.pcd", "the frames: a folder, a source spec or one PCD")
+      .Value("model", "M.pcd", "the object's model, with --dataset")
+      .Value("model-centre", "x,y,z", "the model's centre in metres (default: its centroid)")
+      .Value("truth-pose", "POSE.txt", "the model's true pose in every frame (a 4x4 matrix)")
+      .Value("sphere-radius", "R", "also score with a sphere of R metres fitted to the truth")
+      .Value("frames", "N", "use at most N frames of the dataset")
+      .Value("cases", "CASES.yaml", "labelled cross-capture cases (they bring models and "
+             "scenes)")
+      .Value("data", "DIR", "where the cases' files are (default: ../shared/data)")
+      .Value("protocols", "a,b,c", "with --cases: the cross-capture protocols to run "
+             "(default: a)")
+      .Value("only", "NAME,...", "with --cases: run only these objects")
+      .Value("every", "N", "with --cases: run every Nth case (default: 1)")
+      .Value("out", "DIR", "where the tables and plots go (default: eval-out)")
+      .Value("sweep", "NAME,...", "configurations to sweep the fovea's distance with")
+      .Value("reference", "NAME", "the configuration speed-ups are against (default: 10)")
+      .Value("repeat", "N", "time each trial N times and keep the median (default: 1)")
+      .Switch("no-plots", "write no PNG plots");
+  if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
-  if (!args.Parse(argv,
-                  {"dataset", "model", "configs", "out", "model-centre", "sphere-radius",
-                   "reference", "frames", "sweep", "truth-pose", "cases", "data", "repeat",
-                   "protocols", "only", "every"},
-                  {"no-plots"}, &error))
-    return Usage(err, "eval", error);
   const bool cases = args.Has("cases");
   if (cases && (args.Has("dataset") || args.Has("model")))
     return Usage(err, "eval", "--cases brings its own models and scenes: no --dataset or --model");

@@ -49,10 +49,16 @@ bool OpenOutput(const Args& args, std::ostream& out, Output* output, std::string
 }  // namespace
 
 int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args;
+  Args args("saccade log-fixations",
+             "Subscribes to saccaded's fixations and logs them until SIGINT (or --count of "
+             "them).");
+  args.Value("out", "FILE.csv|FILE.jsonl", "where to write, in the format its name says; - "
+             "for CSV on stdout (required)")
+      .Value("channel", "NAME", "the fixation channel (default: SACCADE_FIXATION)")
+      .Value("lcm-url", "URL", "the LCM network (default: " + kDefaultUrl + ")")
+      .Value("count", "N", "stop after N fixations");
+  if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
-  if (!args.Parse(argv, {"channel", "out", "lcm-url", "count"}, {}, &error))
-    return Usage(err, "log-fixations", error);
   if (!args.Has("out")) return Usage(err, "log-fixations", kOutRequired);
   FixationWriter::Format format;
   if (!OutputFormat(args, &format, &error)) return Usage(err, "log-fixations", error);
@@ -83,20 +89,26 @@ int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std
 }
 
 int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  if (argv.empty() || argv[0].rfind("--", 0) == 0)
+  Args args("saccade fixations",
+             "Converts the fixations in an lcm-logger log to CSV or JSON lines, as "
+             "log-fixations writes them.");
+  args.Positional("LOG.lcmlog", "the lcm-logger log (required)")
+      .Value("out", "FILE.csv|FILE.jsonl", "where to write, in the format its name says; - "
+             "for CSV on stdout (required)")
+      .Value("channel", "NAME", "the fixation channel (default: SACCADE_FIXATION)");
+  if (auto code = args.Parse(argv, out, err)) return *code;
+  if (!args.Has("LOG.lcmlog"))
     return Usage(err, "fixations", "the first argument must be an lcm-logger log file");
-  Args args;
+  const std::string log = args.Get("LOG.lcmlog");
   std::string error;
-  if (!args.Parse({argv.begin() + 1, argv.end()}, {"channel", "out"}, {}, &error))
-    return Usage(err, "fixations", error);
   if (!args.Has("out")) return Usage(err, "fixations", kOutRequired);
   FixationWriter::Format format;
   if (!OutputFormat(args, &format, &error)) return Usage(err, "fixations", error);
   Output output;
   FixationLogStats stats;
   // The log is checked before the output is opened: a log that is not one writes nothing.
-  if (!CheckLcmLog(argv[0], &error) || !OpenOutput(args, out, &output, &error) ||
-      !ConvertFixationLog(argv[0], args.Get("channel", FixationChannel("SACCADE")),
+  if (!CheckLcmLog(log, &error) || !OpenOutput(args, out, &output, &error) ||
+      !ConvertFixationLog(log, args.Get("channel", FixationChannel("SACCADE")),
                           output.writer.get(), &stats, &error)) {
     err << "saccade fixations: " << error << "\n";
     return kExitFailure;

@@ -17,10 +17,22 @@
 namespace saccade {
 
 int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args;
+  Args args("saccade record",
+             "Captures frames from a source into a folder, with ground truth when the source "
+             "has it; Ctrl-C ends it and keeps what was captured.");
+  args.Value("source", "SPEC", "where frames come from (required): "
+             "openni2://[#N|URI|SERIAL][?registration=auto|device|saccade|none&calibration=F], "
+             "freenect://[N|SERIAL][?calibration=F&raw=1], "
+             "PATH.oni[?mode=realtime|fast|step&loop=1], pcd:DIR[?rate=HZ&loop=1], "
+             "depth:DIR[?intrinsics=FILE&rate=HZ&loop=1], "
+             "synthetic:NAME[?frames=N&seed=S&rate=HZ&loop=1] (NAME: a preset or a YAML "
+             "file); docs/SOURCES.md")
+      .Value("out", "DIR", "the folder to write (required)")
+      .Value("frames", "N", "stop after N frames (default: the source's end or Ctrl-C)")
+      .Value("format", "FORMAT", "pcd (clouds), depth (16-bit PNG in millimetres), oni "
+             "(OpenNI2) or fakenect (a Kinect v1 dump) (default: pcd)");
+  if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
-  if (!args.Parse(argv, {"source", "out", "frames", "format"}, {}, &error))
-    return Usage(err, "record", error);
   if (!args.Has("source") || !args.Has("out"))
     return Usage(err, "record", "--source and --out are required");
   std::optional<int> frames;

@@ -92,13 +92,26 @@ std::optional<std::size_t> Pick(const PickRule& rule, const Segmentation& s, std
 }  // namespace
 
 int RunSegment(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args;
+  Args args("saccade segment",
+             "Cuts an object out of a capture: drops points beyond --z-max, removes planes "
+             "until --plane-fraction of the points is gone, clusters the rest and writes the "
+             "picked cluster as a model (kept in the capture's camera frame).");
+  args.Value("scene", "S.pcd", "the capture (required)")
+      .Value("out", "MODEL.pcd", "the model to write (required)")
+      .Value("z-max", "M", "drop points farther than M metres (default: 1.5)")
+      .Value("plane-fraction", "F", "remove planes until this fraction of the points is gone "
+             "(default: 0.5)")
+      .Value("plane-distance", "D", "a point within D metres of a plane belongs to it "
+             "(default: 0.01)")
+      .Value("cluster-distance", "D", "neighbours closer than D metres join a cluster "
+             "(default: 0.01)")
+      .Value("min-points", "N", "drop clusters of fewer points (default: 200)")
+      .Value("pick", "RULE", "largest, nearest (to the camera) or a cluster's index "
+             "(default: largest)")
+      .Value("seed", "N", "RANSAC's seed, a whole number >= 1 (default: 1)")
+      .Switch("json", "print one JSON object instead of text");
+  if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
-  if (!args.Parse(argv,
-                  {"scene", "out", "z-max", "plane-fraction", "plane-distance", "cluster-distance",
-                   "min-points", "pick", "seed"},
-                  {"json"}, &error))
-    return Usage(err, "segment", error);
   for (const char* required : {"scene", "out"})
     if (!args.Has(required)) return Usage(err, "segment", std::string("missing --") + required);
   SegmentationOptions options;

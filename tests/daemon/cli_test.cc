@@ -45,6 +45,106 @@ std::string WriteFile(const std::string& name, const std::string& text) {
   return path;
 }
 
+// The subcommands, as `saccade --help` lists them.
+const std::vector<std::string> kCommands = {"recognize",     "bench",     "bench-track",
+                                            "record",        "log-fixations", "fixations",
+                                            "segment",       "eval",      "demo"};
+
+// The flags a --help lists: every "  --name" that starts an entry.
+std::vector<std::string> HelpFlags(const std::string& help) {
+  std::vector<std::string> flags;
+  std::istringstream lines(help);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("  --", 0) != 0) continue;
+    flags.push_back(line.substr(4, line.find_first_of(" =", 4) - 4));
+  }
+  return flags;
+}
+
+TEST(Cli, EveryCommandsHelpListsFlagsItAccepts) {
+  const CliRun top = Saccade("--help");
+  EXPECT_EQ(top.code, 0);
+  for (const std::string& command : kCommands) {
+    SCOPED_TRACE(command);
+    EXPECT_NE(top.out.find("  " + command + " "), std::string::npos) << top.out;
+    const CliRun help = Saccade(command + " --help");
+    EXPECT_EQ(help.code, 0);
+    EXPECT_EQ(help.out.rfind("usage: saccade " + command, 0), 0u) << help.out;
+    EXPECT_EQ(help.out, Saccade("help " + command).out);
+    const std::vector<std::string> flags = HelpFlags(help.out);
+    EXPECT_GE(flags.size(), 2u) << help.out;  // --version at least, and the command's own
+    for (const std::string& flag : flags) {
+      if (flag == "version") continue;
+      // Each flag listed is known: given (with a value when it takes one) it is never the
+      // unknown one, whatever else the command then says.
+      const CliRun r = Saccade(command + " --" + flag + "=1");
+      EXPECT_EQ(r.out.find("unknown flag"), std::string::npos) << flag << ": " << r.out;
+    }
+  }
+  // The flags documented nowhere before: --threads of recognize and bench.
+  EXPECT_NE(Saccade("recognize --help").out.find("--threads N"), std::string::npos);
+  EXPECT_NE(Saccade("bench --help").out.find("--threads N"), std::string::npos);
+}
+
+TEST(Cli, DaemonHelpListsItsFlagsSignalsAndExitCodes) {
+  const std::string cmd = std::string(SACCADED_BINARY) + " --help 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  EXPECT_EQ(pclose(pipe), 0);
+  for (const char* flag : {"--config", "--source", "--model", "--lcm-url", "--version"})
+    EXPECT_NE(out.find(flag), std::string::npos) << flag << "\n" << out;
+  EXPECT_NE(out.find("SIGHUP"), std::string::npos);
+  EXPECT_NE(out.find("exit codes"), std::string::npos);
+}
+
+TEST(Cli, VersionNamesTheCommitAndTheLibraries) {
+  const CliRun r = Saccade("--version");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_EQ(r.out.rfind("saccade 0.", 0), 0u) << r.out;
+  for (const char* library : {"PCL 1.13", "OpenNI2 2.2", "LCM 1.3", "TBB ", "Eigen 3."})
+    EXPECT_NE(r.out.find(library), std::string::npos) << library << "\n" << r.out;
+  FILE* git = popen("git -C " SACCADE_SOURCE_DIR " rev-parse --short=12 HEAD 2>/dev/null", "r");
+  std::array<char, 64> commit{};
+  const bool in_git = std::fgets(commit.data(), commit.size(), git) != nullptr;
+  pclose(git);
+  if (in_git) {
+    const std::string hash(commit.data(), 12);
+    EXPECT_NE(r.out.find("(commit " + hash), std::string::npos) << r.out;
+  }
+  // Every command answers it the same way.
+  EXPECT_EQ(Saccade("eval --version").out, r.out);
+}
+
+TEST(Cli, AMistypedFlagOrCommandGetsTheNearestOne) {
+  CliRun r = Saccade("recognize --model a.pcd --scene b.pcd --fovae 0,0,1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("unknown flag --fovae (did you mean --fovea?)"), std::string::npos)
+      << r.out;
+  r = Saccade("segment --scene s.pcd --out m.pcd --plane-fration 0.5");
+  EXPECT_NE(r.out.find("did you mean --plane-fraction?"), std::string::npos) << r.out;
+  r = Saccade("reconize --plain");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("unknown command 'reconize' (did you mean recognize?)"),
+            std::string::npos)
+      << r.out;
+  // Nothing near: no guess.
+  r = Saccade("recognize --plain --zzzzzzzz");
+  EXPECT_NE(r.out.find("unknown flag --zzzzzzzz (see saccade recognize --help)"),
+            std::string::npos)
+      << r.out;
+  // A flag where a value should be is not taken as the value.
+  r = Saccade("recognize --model --plain --scene b.pcd");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("flag --model needs a value"), std::string::npos) << r.out;
+  // A value that is negative is a value, and the last of a repeated flag counts.
+  r = Saccade("recognize --model a.pcd --scene b.pcd --fovea 9 --fovea -0.1,0,1");
+  EXPECT_EQ(r.code, 1) << r.out;  // past the flags: a.pcd does not exist
+  EXPECT_NE(r.out.find("a.pcd"), std::string::npos) << r.out;
+}
+
 TEST(Cli, UnknownFlagIsAUsageError) {
   const CliRun r = Saccade("recognize --model a.pcd --scene b.pcd --plain --bogus");
   EXPECT_EQ(r.code, 2);
