@@ -1,6 +1,8 @@
 #include "io/truth_file.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <sstream>
 #include "core/fail.h"
@@ -46,6 +48,20 @@ bool ReadTruthFile(const std::string& path, std::vector<TruthRow>* rows, std::st
     }
     if (v.size() != 13) {
       return Fail(error, path + ": line " + std::to_string(number) + ": expected 13 numbers");
+    }
+    // The counters are whole numbers a double holds exactly (2^53), the rest fit a float:
+    // a cast of anything larger is undefined (UBSan found 8.9e118 as a sequence).
+    constexpr double kWhole = 9007199254740992.0;
+    const auto whole = [](double x, double low) {
+      return x >= low && x <= kWhole && x == std::floor(x);
+    };
+    if (!whole(v[0], 0) || !whole(v[1], -kWhole)) {
+      return Fail(error, path + ": line " + std::to_string(number) +
+                             ": sequence and capture_utime must be whole numbers within 2^53");
+    }
+    if (std::any_of(v.begin() + 2, v.end(),
+                    [](double x) { return std::abs(x) > std::numeric_limits<float>::max(); })) {
+      return Fail(error, path + ": line " + std::to_string(number) + ": a number too large");
     }
     TruthRow row;
     row.sequence = static_cast<std::uint64_t>(v[0]);

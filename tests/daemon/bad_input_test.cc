@@ -360,6 +360,18 @@ std::vector<BadInput> Corpus() {
   source("TruthOfAnotherLength",
          {{"in/", ""}, {"in/0001.pcd", good}, {"in/truth.csv", "frame,x\n0,1\n1,2\n"}}, "pcd:$D/in",
          "$D/in/truth.csv");
+  const std::string truth_header =
+      "sequence,capture_utime,tx,ty,tz,qw,qx,qy,qz,cx,cy,cz,visible_fraction\n";
+  source("TruthSequenceHuge",
+         {{"in/", ""},
+          {"in/0001.pcd", good},
+          {"in/truth.csv", truth_header + "8.9e118,0,0,0,1,1,0,0,0,0,0,1,1\n"}},
+         "pcd:$D/in", "line 2: sequence and capture_utime must be whole numbers");
+  source("TruthTranslationBeyondAFloat",
+         {{"in/", ""},
+          {"in/0001.pcd", good},
+          {"in/truth.csv", truth_header + "1,0,1e39,0,1,1,0,0,0,0,0,1,1\n"}},
+         "pcd:$D/in", "line 2: a number too large");
   source("TruthNotACsv", {{"in/", ""}, {"in/0001.pcd", good}, {"in/truth.csv", kPngMagic}},
          "pcd:$D/in", "$D/in/truth.csv");
   source("OniMissing", {}, "$D/nothing.oni", "$D/nothing.oni");
