@@ -1,34 +1,28 @@
 #include "daemon/notify.h"
 
-#include <sys/socket.h>
-#include <sys/un.h>
-#include <unistd.h>
-
-#include <cstddef>
-#include <cstdlib>
-#include <cstring>
+#include <systemd/sd-daemon.h>
 
 namespace saccade {
 
-bool SystemdNotify(const std::string& state) {
-  const char* path = std::getenv("NOTIFY_SOCKET");
-  if (path == nullptr || path[0] == '\0') return true;
-  sockaddr_un addr{};
-  addr.sun_family = AF_UNIX;
-  const std::size_t length = std::strlen(path);
-  if (length >= sizeof addr.sun_path) return false;
-  std::memcpy(addr.sun_path, path, length);
-  if (path[0] == '@') addr.sun_path[0] = '\0';  // an abstract socket
-  const int fd = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return false;
-  const auto size = static_cast<socklen_t>(offsetof(sockaddr_un, sun_path) + length);
-  const bool sent =
-      sendto(fd, state.data(), state.size(), MSG_NOSIGNAL, reinterpret_cast<const sockaddr*>(&addr),
-             size) == static_cast<ssize_t>(state.size());
-  close(fd);
-  return sent;
+bool SystemdNotify(const std::string& state) { return sd_notify(0, state.c_str()) >= 0; }
+
+SystemdWatchdog::SystemdWatchdog() {
+  std::uint64_t usec = 0;
+  // sd_watchdog_enabled checks $WATCHDOG_PID against this process: a child of the service
+  // that inherited the variables does not ping for it.
+  if (sd_watchdog_enabled(0, &usec) > 0 && usec > 0)
+    interval_ = std::chrono::duration_cast<Clock::duration>(std::chrono::microseconds(usec / 2));
+  last_ping_ = Clock::now();
 }
 
-bool SystemdWatchdogEnabled() { return std::getenv("WATCHDOG_USEC") != nullptr; }
+bool SystemdWatchdog::Beat(bool progressing, Clock::time_point now) {
+  if (!Enabled()) return false;
+  progressed_ = progressed_ || progressing;
+  if (!progressed_ || now - last_ping_ < interval_) return false;
+  sd_notify(0, "WATCHDOG=1");
+  last_ping_ = now;
+  progressed_ = false;
+  return true;
+}
 
 }  // namespace saccade

@@ -1,6 +1,7 @@
 // saccaded: the tracking service. Frames in, detections and fixations out over LCM.
 
 #include "core/fail.h"
+#include "core/fixation.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/notify.h"
@@ -12,6 +13,10 @@
 #include <signal.h>
 #include <csignal>
 
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdio>
 #include <iostream>
 #include <mutex>
 
@@ -27,6 +32,21 @@ file (a bad one is reported and the running one kept).
 
 exit codes: 0 stopped cleanly or the source ended, 1 the source, a model or LCM failed,
             2 bad usage or configuration)";
+
+// systemctl status's one line: what the pipeline does, how fast, what it lost.
+std::string ServiceStatus(const saccade::StatusReport& s) {
+  char counts[160];
+  std::snprintf(counts, sizeof counts, ", %.1f fps, %lld dropped, %lld skipped, %lld unsent",
+                s.fps, static_cast<long long>(s.frames_dropped),
+                static_cast<long long>(s.frames_skipped), static_cast<long long>(s.frames_unsent));
+  std::string line = s.paused ? "paused" : saccade::ModeName(s.mode);
+  std::transform(line.begin(), line.end(), line.begin(), [](char c) {
+    return c == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  });
+  line += counts;
+  if (s.source_state != "streaming") line += "; source " + s.source_state;
+  return line;
+}
 
 // The file, then the flags over it.
 bool LoadSettings(const saccade::Args& args, saccade::DaemonSettings* settings,
@@ -105,12 +125,19 @@ int main(int argc, char** argv) {
     if (tracker) tracker->Stop();
   });
 
-  const bool watchdog = SystemdWatchdogEnabled();
-  if (watchdog) Log(LogLevel::kInfo, "systemd watchdog: pinged while frames flow");
+  SystemdWatchdog watchdog;
+  if (watchdog.Enabled()) {
+    char every[32];
+    std::snprintf(every, sizeof every, "%g",
+                  std::chrono::duration<double>(watchdog.Interval()).count());
+    Log(LogLevel::kInfo, std::string("systemd watchdog: pinged every ") + every +
+                             " s (half its timeout) while frames flow");
+  }
   auto created = Tracker::Open(
       settings,
-      [watchdog](bool progressing) {
-        if (watchdog && progressing) SystemdNotify("WATCHDOG=1");
+      [&watchdog](bool progressing, const StatusReport* status) {
+        watchdog.Beat(progressing);
+        if (status) SystemdNotify("STATUS=" + ServiceStatus(*status));
       },
       &error);
   if (!created) {

@@ -68,6 +68,8 @@ struct Tracker::Impl {
   void ApplyReload(const DaemonSettings& next, const Done& done);
   /// Publishes (and, with `service.summary: line` and not `final`, prints) the status.
   StatusReport PublishStatus(double period_s, bool final);
+  /// Paused, or a camera being waited for (at start or after a loss): alive, not stuck.
+  bool Waiting();
   std::shared_ptr<Job> NextJob(std::string* source_error);
   void RunPipeline(std::string* source_error);
 
@@ -186,6 +188,13 @@ StatusReport Tracker::Impl::PublishStatus(double period_s, bool final) {
   return s;
 }
 
+bool Tracker::Impl::Waiting() {
+  const std::string state = source->Stats().state;
+  std::lock_guard<std::mutex> lock(run_mutex);
+  return paused || state.rfind("reconnecting", 0) == 0 ||
+         state.rfind("waiting for device", 0) == 0;
+}
+
 // The pipeline's first stage: the next frame, or nullptr when paused into a stop, stopped, or
 // the source ended or failed.
 std::shared_ptr<Job> Tracker::Impl::NextJob(std::string* source_error) {
@@ -300,21 +309,28 @@ bool Tracker::Run(std::string* error) {
   Log(LogLevel::kInfo, "source " + s.source->Describe() + "; LCM " + s.bus->Describe() + "; " +
                            std::to_string(s.settings.pipeline.frames_in_flight) +
                            " frames in flight");
-  // The status thread: a heartbeat at the status period, and the watchdog's pulse.
+  // The status thread: a status at the status period, and a heartbeat (the watchdog's pulse)
+  // at least every kHeartbeatPeriod.
   std::mutex status_mutex;
   std::condition_variable status_cv;
   bool status_done = false;
   std::thread status([&] {
+    using Clock = std::chrono::steady_clock;
     std::int64_t seen = s.publish.Progress();
     std::unique_lock<std::mutex> lock(status_mutex);
-    const auto period = std::chrono::duration<double>(s.settings.service.status_period_s);
-    while (!status_cv.wait_for(lock, period, [&] { return status_done; })) {
-      const StatusReport status = s.PublishStatus(s.settings.service.status_period_s, false);
+    const auto period = std::chrono::duration_cast<Clock::duration>(
+        std::chrono::duration<double>(s.settings.service.status_period_s));
+    const auto beat = std::min(period, std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(kHeartbeatPeriod)));
+    auto next_status = Clock::now() + period;
+    while (!status_cv.wait_for(lock, beat, [&] { return status_done; })) {
+      std::optional<StatusReport> status;
+      if (Clock::now() >= next_status) {
+        status = s.PublishStatus(s.settings.service.status_period_s, false);
+        next_status = std::max(next_status + period, Clock::now());
+      }
       const std::int64_t now = s.publish.Progress();
-      // Paused, or a camera being waited for (at start or after a loss): alive, not stuck.
-      const bool waiting = status.paused || status.source_state.rfind("reconnecting", 0) == 0 ||
-                           status.source_state.rfind("waiting for device", 0) == 0;
-      if (s.heartbeat) s.heartbeat(now != seen || waiting);
+      if (s.heartbeat) s.heartbeat(now != seen || s.Waiting(), status ? &*status : nullptr);
       seen = now;
     }
   });

@@ -17,10 +17,13 @@ namespace saccade {
 
 class Tracker {
  public:
-  /// Called on the status thread each period: `progressing` is true when a frame went through
-  /// the pipeline since the last call, or the pipeline is waiting for a reason it knows (paused,
-  /// a source reconnecting). saccaded kicks the systemd watchdog from here.
-  using Heartbeat = std::function<void(bool progressing)>;
+  /// Called on the status thread every kHeartbeatPeriod (or status period, when shorter):
+  /// `progressing` is true when a frame went through the pipeline since the last call, or the
+  /// pipeline is waiting for a reason it knows (paused, a source reconnecting); `status` is the
+  /// status just published, or null when none was this time. saccaded pings the systemd
+  /// watchdog and sets the service's STATUS from here.
+  using Heartbeat = std::function<void(bool progressing, const StatusReport* status)>;
+  static constexpr double kHeartbeatPeriod = 0.25;  // seconds
   /// A reload's outcome, called on the tracker's control thread.
   using Done = std::function<void(bool ok, const std::string& error)>;
 

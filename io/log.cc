@@ -1,7 +1,11 @@
 #include "io/log.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <mutex>
 
 namespace saccade {
@@ -10,6 +14,35 @@ namespace {
 std::mutex log_mutex;
 std::string log_program = "saccade";  // guarded by log_mutex
 std::atomic<LogLevel> log_level{LogLevel::kInfo};
+bool log_to_journal = false;  // guarded by log_mutex
+
+// syslog's priorities, which journald reads from a line's "<N>" prefix (sd-daemon(3)).
+int JournalPriority(LogLevel level) {
+  switch (level) {
+    case LogLevel::kDebug:
+      return 7;
+    case LogLevel::kInfo:
+      return 6;
+    case LogLevel::kWarning:
+      return 4;
+    case LogLevel::kError:
+      return 3;
+  }
+  return 6;
+}
+
+// True when stderr is journald's stream: systemd sets $JOURNAL_STREAM to its "device:inode"
+// (systemd.exec(5)); a redirected stderr (a file, a pipe to a shell) has another.
+bool StderrIsTheJournal() {
+  const char* stream = std::getenv("JOURNAL_STREAM");
+  struct stat st {};
+  if (stream == nullptr || fstat(STDERR_FILENO, &st) != 0) return false;
+  unsigned long long device = 0, inode = 0;
+  char end = 0;
+  if (std::sscanf(stream, "%llu:%llu%c", &device, &inode, &end) != 2) return false;
+  return device == static_cast<unsigned long long>(st.st_dev) &&
+         inode == static_cast<unsigned long long>(st.st_ino);
+}
 
 const char* LevelName(LogLevel level) {
   switch (level) {
@@ -41,6 +74,7 @@ void ConfigureLog(const std::string& program, LogLevel level) {
   std::lock_guard<std::mutex> lock(log_mutex);
   log_program = program;
   log_level = level;
+  log_to_journal = StderrIsTheJournal();
 }
 
 bool LogEnabled(LogLevel level) { return level >= log_level.load(); }
@@ -48,6 +82,7 @@ bool LogEnabled(LogLevel level) { return level >= log_level.load(); }
 void Log(LogLevel level, const std::string& message) {
   if (level < log_level.load()) return;
   std::lock_guard<std::mutex> lock(log_mutex);
+  if (log_to_journal) std::fprintf(stderr, "<%d>", JournalPriority(level));
   std::fprintf(stderr, "%s: %s: %s\n", log_program.c_str(), LevelName(level), message.c_str());
   std::fflush(stderr);
 }

@@ -12,7 +12,9 @@ enum class LogLevel { kDebug, kInfo, kWarning, kError };
 
 /// Parses debug | info | warning | error.
 bool ParseLogLevel(const std::string& name, LogLevel* level);
-/// Process-wide settings: lines below `level` are dropped; `program` starts every line.
+/// Process-wide settings: lines below `level` are dropped; `program` starts every line. When
+/// stderr is journald's ($JOURNAL_STREAM), each line starts with its syslog priority ("<3>"),
+/// so that `journalctl -p err` finds the errors.
 void ConfigureLog(const std::string& program, LogLevel level);
 void Log(LogLevel level, const std::string& message);
 /// True when lines of `level` are written (to skip building a message nobody will see).

@@ -27,10 +27,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <mutex>
 #include <regex>
 #include <sstream>
 #include <thread>
@@ -328,20 +330,76 @@ class StatusWatch {
   std::size_t unchecked_ = 0;
 };
 
+// systemd's end of sd_notify: a datagram socket drained by its own thread, as systemd reads
+// its socket at once (a full socket would block the daemon's sd_notify).
+class NotifySocket {
+ public:
+  explicit NotifySocket(const std::string& path) : path_(path) {
+    fd_ = socket(AF_UNIX, SOCK_DGRAM, 0);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::strncpy(addr.sun_path, path.c_str(), sizeof addr.sun_path - 1);
+    EXPECT_EQ(bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+    reader_ = std::thread([this] {
+      char buffer[512];
+      for (;;) {
+        const ssize_t got = recv(fd_, buffer, sizeof buffer, 0);
+        if (got <= 0) return;  // shut down
+        std::lock_guard<std::mutex> lock(mutex_);
+        messages_.emplace_back(buffer, static_cast<std::size_t>(got));
+        arrived_.notify_all();
+      }
+    });
+  }
+  ~NotifySocket() {
+    shutdown(fd_, SHUT_RDWR);
+    reader_.join();
+    close(fd_);
+  }
+  /// Waits for the next message that starts with `prefix` after those already waited for; a
+  /// generous deadline for one that never comes (not a timing).
+  bool WaitFor(const std::string& prefix) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return arrived_.wait_for(lock, std::chrono::seconds(60), [&] {
+      for (; next_ < messages_.size(); ++next_)
+        if (messages_[next_].rfind(prefix, 0) == 0) return ++next_, true;
+      return false;
+    });
+  }
+  /// Every message so far, each followed by ';'.
+  std::string All() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::string all;
+    for (const std::string& m : messages_) all += m + ";";
+    return all;
+  }
+  /// The last message that starts with `prefix`; empty when none.
+  std::string Last(const std::string& prefix) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto m = messages_.rbegin(); m != messages_.rend(); ++m)
+      if (m->rfind(prefix, 0) == 0) return *m;
+    return "";
+  }
+  std::string Env() const { return "NOTIFY_SOCKET=" + path_; }
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+  std::mutex mutex_;
+  std::condition_variable arrived_;
+  std::vector<std::string> messages_;  // guarded by mutex_
+  std::size_t next_ = 0;               // guarded by mutex_
+  std::thread reader_;
+};
+
 TEST(Saccaded, RejectsMalformedCommandsCountsThemAndKeepsRunning) {
   Sandbox box;
   StatusWatch watch(box.url);
   // A live looping source that never ends by itself; systemd's notify socket is ours.
-  const std::string notify = box.Path("notify.sock");
-  const int sock = socket(AF_UNIX, SOCK_DGRAM, 0);
-  sockaddr_un addr{};
-  addr.sun_family = AF_UNIX;
-  std::strncpy(addr.sun_path, notify.c_str(), sizeof addr.sun_path - 1);
-  ASSERT_EQ(bind(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  NotifySocket systemd(box.Path("notify.sock"));
   Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
                         "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
-                       box.Path("out"), box.Path("err"),
-                       {"NOTIFY_SOCKET=" + notify, "WATCHDOG_USEC=10000000"});
+                       box.Path("out"), box.Path("err"), {systemd.Env(), "WATCHDOG_USEC=1000000"});
   ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
 
   const char garbage[] = "not a command_t";
@@ -394,17 +452,64 @@ TEST(Saccaded, RejectsMalformedCommandsCountsThemAndKeepsRunning) {
   EXPECT_NE(err.find("unknown kind 42"), std::string::npos) << err;
   EXPECT_NE(err.find("no-such-model.pcd"), std::string::npos) << err;
 
-  char buffer[256];
-  std::string states;
-  for (;;) {
-    const ssize_t got = recv(sock, buffer, sizeof buffer, MSG_DONTWAIT);
-    if (got <= 0) break;
-    states += std::string(buffer, got) + ";";
-  }
-  close(sock);
+  const std::string states = systemd.All();
   EXPECT_NE(states.find("READY=1"), std::string::npos) << states;
   EXPECT_NE(states.find("STOPPING=1"), std::string::npos) << states;
   EXPECT_NE(states.find("WATCHDOG=1"), std::string::npos) << states << err;
+}
+
+TEST(Saccaded, TellsSystemdItsStateStatusAndWatchdogAndLogsWithJournalPriorities) {
+  Sandbox box;
+  NotifySocket systemd(box.Path("notify.sock"));
+  // stderr's file exists first, so that its device and inode can name it as journald's stream.
+  const std::string err_path = box.Path("err");
+  std::ofstream(err_path).close();
+  struct stat err_stat {};
+  ASSERT_EQ(stat(err_path.c_str(), &err_stat), 0);
+  const std::string journal = "JOURNAL_STREAM=" + std::to_string(err_stat.st_dev) + ":" +
+                              std::to_string(err_stat.st_ino);
+  const std::vector<std::string> args = {kSaccaded, "--config", kSourceDir + "/configs/demo.yaml",
+                                         "--source", "synthetic:static?rate=10&loop=1",
+                                         "--lcm-url", box.url};
+  // A 0.4 s watchdog: pinged every 0.2 s (half of it), as long as frames flow.
+  Child daemon = Spawn(args, box.Path("out"), err_path,
+                       {systemd.Env(), "WATCHDOG_USEC=400000", journal});
+  ASSERT_TRUE(systemd.WaitFor("READY=1")) << systemd.All();
+  for (int ping = 0; ping < 3; ++ping) ASSERT_TRUE(systemd.WaitFor("WATCHDOG=1")) << systemd.All();
+  ASSERT_TRUE(systemd.WaitFor("STATUS=")) << systemd.All();
+  const std::string status = systemd.Last("STATUS=");
+  EXPECT_TRUE(std::regex_search(status, std::regex("^STATUS=(searching|tracking|full scan), [0-9.]+ "
+                                                   "fps, [0-9]+ dropped, [0-9]+ skipped")))
+      << status;
+  daemon.Signal(SIGHUP);
+  EXPECT_TRUE(systemd.WaitFor("RELOADING=1")) << systemd.All();
+  EXPECT_TRUE(systemd.WaitFor("READY=1")) << systemd.All();
+  daemon.Signal(SIGTERM);
+  EXPECT_TRUE(systemd.WaitFor("STOPPING=1")) << systemd.All();
+  EXPECT_EQ(daemon.Wait().code, 0);
+  // Every line of the log carries its priority: info is 6, and the watchdog says its interval.
+  const std::string err = ReadFile(err_path);
+  std::istringstream lines(err);
+  int n = 0;
+  for (std::string line; std::getline(lines, line); ++n)
+    EXPECT_TRUE(std::regex_search(line, std::regex("^<[3467]>saccaded: "))) << line;
+  EXPECT_GT(n, 2) << err;
+  EXPECT_NE(err.find("<6>saccaded: info: systemd watchdog: pinged every 0.2"), std::string::npos)
+      << err;
+
+  // $WATCHDOG_PID names another process (the service's main process, when saccaded is its
+  // child): saccaded must not ping for it. Two statuses pass, no ping among them.
+  NotifySocket other(box.Path("notify2.sock"));
+  Child child = Spawn(args, box.Path("out2"), box.Path("err2"),
+                      {other.Env(), "WATCHDOG_USEC=400000", "WATCHDOG_PID=1"});
+  ASSERT_TRUE(other.WaitFor("READY=1")) << other.All();
+  ASSERT_TRUE(other.WaitFor("STATUS=")) << other.All();
+  ASSERT_TRUE(other.WaitFor("STATUS=")) << other.All();
+  child.Signal(SIGTERM);
+  EXPECT_EQ(child.Wait().code, 0);
+  EXPECT_EQ(other.All().find("WATCHDOG=1"), std::string::npos) << other.All();
+  // Without a journal stream, plain lines.
+  EXPECT_EQ(ReadFile(box.Path("err2")).rfind("saccaded: ", 0), 0u);
 }
 
 TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
