@@ -110,6 +110,7 @@ void RecognizeStage::Process(Job* job) {
   FrameDetections& out = job->detections;
   out.seq = static_cast<std::int64_t>(frame.sequence);
   out.capture_utime = frame.capture_utime;
+  out.arrival_steady_ns = frame.arrival_steady_ns;
   out.foveated = q.foveated;
   out.fovea_m = q.fovea_m;
   out.growth_m = q.fovea.growth_m.x();

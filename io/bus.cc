@@ -2,6 +2,7 @@
 
 #include "core/fail.h"
 #include "io/log.h"
+#include "io/frame_source.h"
 #include "io/text.h"
 
 #include <poll.h>
@@ -12,6 +13,7 @@
 #include <saccade/fixation_t.hpp>
 #include <saccade/status_t.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -141,6 +143,14 @@ std::int64_t WallUtime() {
   return duration_cast<microseconds>(system_clock::now().time_since_epoch()).count();
 }
 
+// The frame's utime on the wire: when it reached the host, in microseconds since the epoch. The
+// steady clock measured how long ago that was; the wall clock says when now is.
+std::int64_t ArrivalEpochUtime(std::int64_t arrival_steady_ns) {
+  const std::int64_t now = WallUtime();
+  if (arrival_steady_ns <= 0) return now;
+  return now - std::max<std::int64_t>(0, (SteadyNowNs() - arrival_steady_ns) / 1000);
+}
+
 template <typename Vec>
 void Copy3(const Vec& v, double out[3]) {
   for (int i = 0; i < 3; ++i) out[i] = v[i];
@@ -184,7 +194,8 @@ class LcmBus : public Bus {
 
   bool Publish(const FrameDetections& frame, const Fixation& fixation) override {
     saccade::detections_t d;
-    d.utime = frame.capture_utime;
+    d.utime = ArrivalEpochUtime(frame.arrival_steady_ns);
+    d.sensor_utime = frame.capture_utime;
     d.seq = frame.seq;
     d.publish_utime = WallUtime();
     d.frame = frame_name_;
@@ -196,7 +207,7 @@ class LcmBus : public Bus {
     d.track_ms = frame.track_ms;
     for (const Detection& r : frame.instances) {
       saccade::instance_t i;
-      i.utime = frame.capture_utime;
+      i.utime = d.utime;
       i.model = r.model;
       if (r.model >= 0 && r.model < static_cast<int>(frame.models.size()))
         i.model_name = frame.models[static_cast<std::size_t>(r.model)];
@@ -218,7 +229,8 @@ class LcmBus : public Bus {
     d.num_instances = static_cast<std::int32_t>(d.instances.size());
 
     saccade::fixation_t f;
-    f.utime = frame.capture_utime;
+    f.utime = d.utime;
+    f.sensor_utime = frame.capture_utime;
     f.seq = fixation.frame_seq;
     f.frame = frame_name_;
     Copy3(X_RC_ * fixation.fovea_m, f.fovea);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/fixation.h"
+#include "io/lcm_log.h"
 
 #include <atomic>
 #include <cstdint>
@@ -15,7 +16,8 @@ namespace saccade {
 /// One fixation_t as logged: the fixation (back in core's shape) with its wire stamp and the
 /// frame its positions are in ("camera", or the robot frame the daemon published in).
 struct LoggedFixation {
-  std::int64_t utime = 0;  // the frame's capture time, microseconds
+  std::int64_t utime = 0;         // when the frame reached the host, epoch microseconds
+  std::int64_t sensor_utime = 0;  // its capture time on the sensor's clock, microseconds
   std::string frame;
   Fixation fixation;
 };
@@ -23,10 +25,11 @@ struct LoggedFixation {
 /// Decodes one fixation_t message; false when the bytes are not one (or its mode is unknown).
 bool DecodeFixation(const void* data, std::size_t size, LoggedFixation* logged);
 
-/// Writes records as CSV (with a header line) or JSON lines, chosen by the file name.
+/// Writes records as CSV (a header line with each column's unit) or JSON lines, chosen by the
+/// file name; numbers at the precision they have.
 class FixationWriter {
  public:
-  enum class Format { kCsv, kJsonl };
+  using Format = TableFormat;
   /// .csv or .jsonl; false with `error` for any other name.
   static bool FormatOf(const std::string& path, Format* format, std::string* error);
   FixationWriter(std::ostream& out, Format format);
@@ -37,28 +40,15 @@ class FixationWriter {
   Format format_;
 };
 
-/// What a conversion did.
-struct FixationLogStats {
-  std::int64_t written = 0;
-  std::int64_t skipped = 0;  // messages on the channel that did not decode, corrupt events
-};
-
-/// Whether `path` is an lcm-logger log, checked before anything reads it: a regular file, not
-/// empty, starting with an event's sync word. False with "PATH: reason" otherwise.
-bool CheckLcmLog(const std::string& path, std::string* error);
-
-/// Writes every message of `channel` in an lcm-logger log (CheckLcmLog first). Each event's
-/// lengths are checked against the file before it is read; a corrupt stretch is skipped to the
-/// next event, a truncated last event ends the log; both are counted in `stats->skipped`. False
-/// with `error` when the log cannot be read.
+/// Writes every fixation of `channel` in an lcm-logger log (ReadLcmLog: checked event by event).
 bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
-                        FixationWriter* writer, FixationLogStats* stats, std::string* error);
+                        FixationWriter* writer, LcmLogStats* stats, std::string* error);
 
 /// Subscribes to `channel` at `url` and writes each fixation until `stop` is set (checked at
 /// least every 200 ms) or `max_records` are written (0: no limit). False with `error` when LCM
 /// cannot be opened.
 bool ListenFixations(const std::string& url, const std::string& channel, FixationWriter* writer,
                      std::int64_t max_records, const std::atomic<bool>& stop,
-                     FixationLogStats* stats, std::string* error);
+                     LcmLogStats* stats, std::string* error);
 
 }  // namespace saccade

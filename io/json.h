@@ -1,6 +1,7 @@
 // A minimal JSON writer for the command line's --json output (no parsing, no dependencies).
 #pragma once
 
+#include <charconv>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -26,6 +27,16 @@ class JsonWriter {
     Separate();
     if (std::isfinite(v))
       out_ << std::setprecision(9) << v;
+    else
+      out_ << "null";
+    return *this;
+  }
+  /// A float at the precision it has: its shortest text that reads back as the same float.
+  JsonWriter& Value(float v) {
+    Separate();
+    char text[32];
+    if (std::isfinite(v))
+      out_.write(text, std::to_chars(text, text + sizeof text, v).ptr - text);
     else
       out_ << "null";
     return *this;

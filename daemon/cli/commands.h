@@ -19,6 +19,7 @@ int RunRecognize(const std::vector<std::string>& args, std::ostream& out, std::o
 int RunBench(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunRecord(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunLogFixations(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int RunDetections(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunFixations(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunSegment(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunEval(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);

@@ -1,10 +1,11 @@
-// `saccade log-fixations` (live, from LCM) and `saccade fixations LOG` (from an lcm-logger
-// file): the attention log as CSV or JSON lines.
+// `saccade log-fixations` (live, from LCM), `saccade fixations LOG` and `saccade detections
+// LOG` (from an lcm-logger file): what saccaded published, as CSV or JSON lines.
 #include "core/fail.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/signals.h"
 #include "io/bus.h"
+#include "io/detections_log.h"
 #include "io/fixation_log.h"
 
 #include <atomic>
@@ -75,7 +76,7 @@ int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std
   }
   std::atomic<bool> stop{false};
   SignalWaiter signals([&](int) { stop = true; });  // SIGINT/SIGTERM end the log cleanly
-  FixationLogStats stats;
+  LcmLogStats stats;
   if (!ListenFixations(args.Get("lcm-url", BusOptions{}.url),
                        args.Get("channel", FixationChannel("SACCADE")), output.writer.get(), count,
                        stop, &stats, &error)) {
@@ -105,7 +106,7 @@ int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::o
   FixationWriter::Format format;
   if (!OutputFormat(args, &format, &error)) return Usage(err, "fixations", error);
   Output output;
-  FixationLogStats stats;
+  LcmLogStats stats;
   // The log is checked before the output is opened: a log that is not one writes nothing.
   if (!CheckLcmLog(log, &error) || !OpenOutput(args, out, &output, &error) ||
       !ConvertFixationLog(log, args.Get("channel", FixationChannel("SACCADE")),
@@ -115,6 +116,52 @@ int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::o
   }
   if (stats.skipped > 0)
     err << "saccade fixations: " << stats.skipped << " malformed message(s) skipped\n";
+  return kExitOk;
+}
+
+}  // namespace saccade
+
+namespace saccade {
+
+int RunDetections(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
+  Args args("saccade detections",
+            "Converts the detections in an lcm-logger log to CSV (one row per instance: where "
+            "it is, its confidence and track) or JSON lines (one line per frame).");
+  args.Positional("LOG.lcmlog", "the lcm-logger log (required)")
+      .Value("out", "FILE.csv|FILE.jsonl", "where to write, in the format its name says; - "
+             "for CSV on stdout (required)")
+      .Value("channel", "NAME", "the detections channel (default: SACCADE_DETECTIONS)");
+  if (auto code = args.Parse(argv, out, err)) return *code;
+  if (!args.Has("LOG.lcmlog"))
+    return Usage(err, "detections", "the first argument must be an lcm-logger log file");
+  if (!args.Has("out")) return Usage(err, "detections", kOutRequired);
+  const std::string log = args.Get("LOG.lcmlog"), path = args.Get("out");
+  std::string error;
+  TableFormat format;
+  if (!TableFormatOf(path == "-" ? "-.csv" : path, &format, &error))
+    return Usage(err, "detections", error);
+  // The log is checked before the output is opened: a log that is not one writes nothing.
+  std::ofstream file;
+  if (!CheckLcmLog(log, &error)) {
+    err << "saccade detections: " << error << "\n";
+    return kExitFailure;
+  }
+  if (path != "-") {
+    file.open(path);
+    if (!file) {
+      err << "saccade detections: '" << path << "': cannot write it\n";
+      return kExitFailure;
+    }
+  }
+  DetectionWriter writer(path == "-" ? out : file, format);
+  LcmLogStats stats;
+  if (!ConvertDetectionLog(log, args.Get("channel", DetectionsChannel("SACCADE")), &writer,
+                           &stats, &error)) {
+    err << "saccade detections: " << error << "\n";
+    return kExitFailure;
+  }
+  if (stats.skipped > 0)
+    err << "saccade detections: " << stats.skipped << " malformed message(s) skipped\n";
   return kExitOk;
 }
 

@@ -27,6 +27,8 @@ constexpr Command kCommands[] = {
      saccade::RunLogFixations},
     {"fixations", "convert the fixations in an lcm-logger log (CSV, JSON lines)",
      saccade::RunFixations},
+    {"detections", "convert the detections in an lcm-logger log (CSV, JSON lines)",
+     saccade::RunDetections},
     {"segment", "cut an object out of a capture as a model", saccade::RunSegment},
     {"eval", "recognition configurations over frames or cases with ground truth",
      saccade::RunEval},

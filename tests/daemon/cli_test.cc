@@ -47,7 +47,7 @@ std::string WriteFile(const std::string& name, const std::string& text) {
 
 // The subcommands, as `saccade --help` lists them.
 const std::vector<std::string> kCommands = {"recognize",     "bench",     "bench-track",
-                                            "record",        "log-fixations", "fixations",
+                                            "record",        "log-fixations", "fixations", "detections",
                                             "segment",       "eval",      "demo"};
 
 // The flags a --help lists: every "  --name" that starts an entry.

@@ -211,10 +211,17 @@ TEST(Saccaded, TracksAMovingTargetThroughAnOcclusionOverRealLcm) {
   Sandbox box;
   Logger logger(box, "run.lcmlog");
   const std::string scenario_path = kSourceDir + "/configs/demo-scenario.yaml";
+  const auto epoch_us = [] {
+    return std::chrono::duration_cast<std::chrono::microseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
+        .count();
+  };
+  const std::int64_t started = epoch_us();
   Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
                         "synthetic:" + scenario_path + "?rate=0", "--lcm-url", box.url},
                        box.Path("out"), box.Path("err"));
   const Exit exit = daemon.Wait();
+  const std::int64_t ended = epoch_us();
   ASSERT_EQ(exit.code, 0) << ReadFile(box.Path("err"));
   const LogEvents log = logger.Finish();
 
@@ -229,6 +236,13 @@ TEST(Saccaded, TracksAMovingTargetThroughAnOcclusionOverRealLcm) {
     EXPECT_EQ(log.detections[i].seq, i);
     EXPECT_EQ(log.fixations[i].seq, i);
     EXPECT_EQ(log.detections[i].utime, log.fixations[i].utime);
+    EXPECT_EQ(log.detections[i].sensor_utime, log.fixations[i].sensor_utime);
+    // utime is the epoch time the frame reached the host; sensor_utime the scenario's clock.
+    EXPECT_GE(log.detections[i].utime, started);
+    EXPECT_LE(log.detections[i].utime, ended);
+    if (i > 0) {
+      EXPECT_GT(log.detections[i].sensor_utime, log.detections[i - 1].sensor_utime);
+    }
   }
   ASSERT_FALSE(log.statuses.empty());
   EXPECT_EQ(log.statuses.back().frames_processed, n);
@@ -281,9 +295,32 @@ TEST(Saccaded, TracksAMovingTargetThroughAnOcclusionOverRealLcm) {
   std::string line;
   int lines = 0;
   std::getline(rows, line);
-  EXPECT_EQ(line.rfind("utime,seq,", 0), 0u);
+  EXPECT_EQ(line.rfind("utime_us,sensor_utime_us,seq,", 0), 0u);
   while (std::getline(rows, line)) ++lines;
   EXPECT_EQ(lines, n);
+
+  // And the detections: one CSV row per instance, one JSON line per frame.
+  int instances = 0;
+  for (const auto& d : log.detections) instances += d.num_instances;
+  ASSERT_GT(instances, 0);
+  for (const char* name : {"detections.csv", "detections.jsonl"}) {
+    const std::string out = box.Path(name);
+    ASSERT_EQ(Wait(Spawn({kSaccade, "detections", logger.path(), "--out", out}, box.Path("cout"),
+                         box.Path("cerr")))
+                  .code,
+              0)
+        << ReadFile(box.Path("cerr"));
+    const std::string text = ReadFile(out);
+    const bool csv_out = std::string(name).find(".csv") != std::string::npos;
+    EXPECT_EQ(Count(text, "\n"), csv_out ? instances + 1 : n) << name;
+    // The first frame with an instance leads: its epoch utime, then its sensor time.
+    const auto first = std::find_if(log.detections.begin(), log.detections.end(),
+                                    [](const auto& d) { return d.num_instances > 0; });
+    const std::string stamp = (csv_out ? "" : "{\"utime\":") + std::to_string(first->utime) +
+                              (csv_out ? "," : ",\"sensor_utime\":") +
+                              std::to_string(first->sensor_utime);
+    EXPECT_NE(text.find(stamp), std::string::npos) << stamp << "\n" << text.substr(0, 400);
+  }
 }
 
 // The daemon's own LCM client in the test: waits for a condition on the status channel.

@@ -75,7 +75,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     default: {
       std::ostringstream out;
       FixationWriter writer(out, FixationWriter::Format::kJsonl);
-      FixationLogStats stats;
+      LcmLogStats stats;
       ok = ConvertFixationLog(path, "SACCADE_FIXATION", &writer, &stats, &error);
       break;
     }

@@ -1,6 +1,7 @@
 // The LCM bus over a real UDP multicast socket on this host: what goes out is what the types
 // say (frames, units, the robot transform), and commands come in checked and converted.
 #include "io/bus.h"
+#include "io/frame_source.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,6 +19,11 @@
 
 namespace saccade {
 namespace {
+
+std::int64_t WallNowUtime() {
+  using namespace std::chrono;
+  return duration_cast<microseconds>(system_clock::now().time_since_epoch()).count();
+}
 
 std::string TestUrl() {
   return "udpm://239.255.76.67:" + std::to_string(7960 + getpid() % 30) + "?ttl=0";
@@ -67,6 +73,8 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
 
   FrameDetections frame;
   frame.capture_utime = 123456;
+  const std::int64_t wall_before = WallNowUtime();
+  frame.arrival_steady_ns = SteadyNowNs();
   frame.seq = 7;
   frame.fovea_m = Eigen::Vector3f(0, 0, 1);
   frame.models = {"m.pcd"};
@@ -93,7 +101,10 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
                       listener.handleTimeout(10);
                     }));
   EXPECT_EQ(got->frame, "base_link");
-  EXPECT_EQ(got->utime, 123456);
+  EXPECT_EQ(got->sensor_utime, 123456);  // the sensor's clock
+  // utime: when the frame reached the host, on the epoch clock (bot_core's convention).
+  EXPECT_GE(got->utime, wall_before - 5000);
+  EXPECT_LE(got->utime, WallNowUtime());
   EXPECT_EQ(got->seq, 7);
   ASSERT_EQ(got->num_instances, 1);
   const auto& i = got->instances[0];
@@ -115,7 +126,8 @@ TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   EXPECT_FLOAT_EQ(got->track_ms, 0.5f);
   EXPECT_NEAR(got->fovea[2], 1.5, 1e-5);
   EXPECT_EQ(fixation->frame, "base_link");
-  EXPECT_EQ(fixation->utime, 123456);  // stamped with the frame's capture time
+  EXPECT_EQ(fixation->sensor_utime, 123456);  // stamped with the frame's capture time
+  EXPECT_EQ(fixation->utime, got->utime);     // and the same arrival
   EXPECT_EQ(fixation->seq, 7);
   EXPECT_EQ(fixation->mode_name, "TRACKING");
   EXPECT_NEAR(fixation->velocity[1], 1.0, 1e-5);  // velocities turn but do not move
