@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
 
-.PHONY: all deps configure build demo test bench bench-stages bench-daemon bench-track eval-xcap \
+.PHONY: all deps configure build package install demo test bench bench-stages bench-daemon bench-track eval-xcap \
         eval-xcap-ppf fuzz asan-build test-asan soak clean
 
 all: build
@@ -17,6 +17,15 @@ configure: deps
 
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+# A .deb of the programs, configs, unit, docs and message types (build/packages/); see
+# "Run it as a service" in the README.
+package: build
+	@cd $(BUILD_DIR) && cpack -G DEB > cpack.log 2>&1 || (cat cpack.log; exit 1)
+	@ls $(BUILD_DIR)/packages/*.deb
+
+install: build
+	@cmake --install $(BUILD_DIR)
 
 # saccaded on the synthetic Kinect: a target that moves, hides and comes back, over LCM.
 demo: build
