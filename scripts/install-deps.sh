@@ -11,6 +11,7 @@ packages=(
   libtbb-dev libyaml-cpp-dev libopencv-contrib-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libtiff-dev
   libcli11-dev libsystemd-dev
+  liblcm-java liblcm-lua lua5.2 default-jdk-headless python3 libjchart2d-java
   gnuplot-nox
 )
 
