@@ -1,4 +1,5 @@
 # A thin wrapper over CMake. `make demo` and `make test` install missing Debian packages first.
+MAKEFLAGS += --no-print-directory
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
@@ -12,11 +13,13 @@ deps:
 	@./scripts/install-deps.sh
 
 configure: deps
+	@[ -f $(BUILD_DIR)/CMakeCache.txt ] || echo "saccade: first build: it installs what is" \
+	  "missing from Debian and builds Saccade, about 15 minutes on 2 cores" >&2
 	@cmake -S . -B $(BUILD_DIR) $(CMAKE_FLAGS) > $(BUILD_DIR).configure.log 2>&1 || \
 	  (cat $(BUILD_DIR).configure.log; exit 1)
 
 build: configure
-	@cmake --build $(BUILD_DIR) -j $(JOBS)
+	@./scripts/build.sh $(BUILD_DIR) $(JOBS)
 
 # A .deb of the programs, configs, unit, docs and message types (build/packages/); see
 # "Run it as a service" in the README.
@@ -32,8 +35,9 @@ demo: build
 	@./scripts/multicast-route.sh
 	@$(BUILD_DIR)/daemon/saccaded --config configs/demo.yaml
 
+# One line per test as it ends; the output of a failing one; the count at the end.
 test: build
-	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	@cd $(BUILD_DIR) && ctest --progress --output-on-failure -j $(JOBS)
 
 # Speed on the real milk scene (needs ../shared/data); see docs/BENCHMARKS.md.
 bench: build

@@ -159,6 +159,6 @@ int main(int argc, char** argv) {
     Log(LogLevel::kError, error);
     return kExitFailure;
   }
-  Log(LogLevel::kInfo, "stopped");
+  Log(LogLevel::kInfo, created->ClosingLine());
   return kExitOk;
 }

@@ -266,6 +266,14 @@ void PublishStage::Process(Job* job) {
   const std::int64_t t1 = SteadyNowNs();
   const std::string summary =
       summary_line_ ? SummaryLine(job->next, frame.instances, job->frame.truth) : "";
+  const auto& truth = job->frame.truth;
+  const bool visible = truth && truth->visible_fraction >= 0.2f;
+  float best = -1;
+  if (visible)
+    for (const Detection& d : frame.instances) {
+      const float e = TruthError(d, *truth);
+      if (best < 0 || e < best) best = e;
+    }
 
   std::lock_guard<std::mutex> lock(mutex_);
   recognize_.Add(frame.recognize_ms);
@@ -285,6 +293,13 @@ void PublishStage::Process(Job* job) {
     lag_max_ = std::max<int>(lag_max_, static_cast<int>(frame.seq - job->used.frame_seq));
   mode_ = job->next.mode;
   if (!summary.empty()) last_summary_ = summary;
+  if (visible) {
+    ++truth_visible_;
+    if (best >= 0 && best <= kTrackedWithinM) ++truth_tracked_;
+    const auto last = static_cast<long>(truth_error_mm_.size()) - 1;
+    ++truth_error_mm_[static_cast<std::size_t>(
+        best < 0 ? last : std::min<long>(last, std::lround(best * 1000)))];
+  }
   ++progress_;
 }
 
@@ -302,6 +317,27 @@ void PublishStage::TakePeriod(double period_s, bool whole_run, StatusReport* s,
                attend_.TakeReport("attention"), publish_.TakeReport("publish"),
                capture_to_publish_.TakeReport("capture_to_publish")};
   *summary = last_summary_;
+}
+
+std::string PublishStage::TruthLine() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (truth_visible_ == 0) return "";
+  std::int64_t below = 0;
+  std::size_t median_mm = 0;
+  while (2 * (below + truth_error_mm_[median_mm]) < truth_visible_ + 1 &&
+         median_mm + 1 < truth_error_mm_.size())
+    below += truth_error_mm_[median_mm++];
+  char line[160];
+  std::snprintf(line, sizeof line,
+                "target within %.0f cm in %lld of %lld frames it was visible in, median error %s",
+                kTrackedWithinM * 100, static_cast<long long>(truth_tracked_),
+                static_cast<long long>(truth_visible_),
+                median_mm + 1 == truth_error_mm_.size()
+                    ? "over 1 m (or not found)"
+                    : (std::to_string(median_mm / 10) + "." + std::to_string(median_mm % 10) +
+                       " cm")
+                          .c_str());
+  return line;
 }
 
 std::string PublishStage::RunLine(double seconds, const SourceStats& source) const {

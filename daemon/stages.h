@@ -146,6 +146,10 @@ class PublishStage {
   std::int64_t Progress() const { return progress_; }
   /// The whole run in one line (frames, fps, drops, recognize and capture-to-publish p50/p99).
   std::string RunLine(double seconds, const SourceStats& source) const;
+  /// With ground truth (synthetic frames, recordings that carry it): "target within 2 cm in N
+  /// of M frames it was visible in, median error E cm"; empty without truth. Thread-safe.
+  std::string TruthLine() const;
+  static constexpr float kTrackedWithinM = 0.02f;
 
  private:
   Bus* const bus_;
@@ -160,6 +164,11 @@ class PublishStage {
   int lag_max_ = 0;
   AttentionMode mode_ = AttentionMode::kSearching;
   std::string last_summary_;  // the newest frame's fovea and error, for the summary line
+  // Frames with truth in which the target was visible, those with an instance within
+  // kTrackedWithinM of it, and the best instance's error in 1 mm bins (the last: 1 m or more,
+  // or not found).
+  std::int64_t truth_visible_ = 0, truth_tracked_ = 0;
+  std::vector<std::int64_t> truth_error_mm_ = std::vector<std::int64_t>(1001, 0);
   std::atomic<std::int64_t> progress_{0};
 };
 

@@ -303,6 +303,14 @@ void Tracker::Reload(const DaemonSettings& next, Done done) {
 
 void Tracker::WaitForControl() { impl_->control.Flush(); }
 
+std::string Tracker::ClosingLine() const {
+  const std::string truth = impl_->publish.TruthLine();
+  if (truth.empty() || !impl_->source) return "stopped";
+  const SourceStats stats = impl_->source->Stats();
+  return "stopped: " + truth + "; " + std::to_string(stats.dropped) + " of " +
+         std::to_string(stats.produced) + " frames dropped at the source's rate";
+}
+
 bool Tracker::Run(std::string* error) {
   Impl& s = *impl_;
   if (!s.source) return Fail(error, "no frame source: this tracker is driven by Process()");

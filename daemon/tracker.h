@@ -44,6 +44,9 @@ class Tracker {
   /// Runs until the source ends or Stop(); every frame taken from the source is published
   /// before it returns. Returns false with `error` when the source failed.
   bool Run(std::string* error);
+  /// The run's last word, after Run: "stopped", and with ground truth how well the target was
+  /// tracked and how many frames the source's rate made it drop.
+  std::string ClosingLine() const;
   /// Takes one frame through recognition, attention and publishing on the calling thread, as
   /// Run does with each frame: for tests that drive the tracker frame by frame. Not while Run
   /// runs.

@@ -224,6 +224,17 @@ TEST(Saccaded, TracksAMovingTargetThroughAnOcclusionOverRealLcm) {
   const std::int64_t ended = epoch_us();
   ASSERT_EQ(exit.code, 0) << ReadFile(box.Path("err"));
   const LogEvents log = logger.Finish();
+  // Its last line says how well it tracked against the scenario's truth, and what it dropped.
+  const std::string err = ReadFile(box.Path("err"));
+  std::smatch closing;
+  ASSERT_TRUE(std::regex_search(err, closing,
+                                std::regex("stopped: target within 2 cm in ([0-9]+) of ([0-9]+) "
+                                           "frames it was visible in, median error ([0-9.]+) cm; "
+                                           "0 of ([0-9]+) frames dropped at the source's rate\n$")))
+      << err;
+  EXPECT_GT(std::stoi(closing[2]), 0);
+  EXPECT_GE(std::stoi(closing[1]), std::stoi(closing[2]) * 8 / 10);  // tracked in 80% or more
+  EXPECT_LT(std::stod(closing[3]), 1.0);
 
   Scenario scenario;
   std::string error;
