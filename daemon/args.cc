@@ -171,6 +171,8 @@ std::string Args::Check(const std::vector<std::string>& argv) const {
         return "unknown flag --" + name + (near.empty() ? "" : " (did you mean --" + near + "?)");
       }
       if (spec->value.empty() && inline_value) return "flag --" + name + " takes no value";
+      if (!spec->value.empty() && inline_value && a.back() == '=')  // CLI11 would take the next
+        return "flag --" + name + " needs a value (" + spec->value + ")";
       if (!spec->value.empty() && !inline_value) {
         // A value that starts with "--" is given as --name=--value.
         if (i + 1 == argv.size() || !FlagName(argv[i + 1]).empty())
@@ -237,6 +239,12 @@ std::string Args::Nearest(const std::string& word, const std::vector<std::string
   // A third of the word may be wrong (at least 2 letters, so "fovae" finds "fovea").
   const std::size_t tolerance = std::max<std::size_t>(2, word.size() / 3);
   return best_distance <= tolerance ? best : "";
+}
+
+std::string Args::Default(double value) {
+  std::ostringstream text;
+  text << " (default: " << value << ")";
+  return text.str();
 }
 
 std::vector<std::string> Args::ParseList(const std::string& text) {

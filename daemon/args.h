@@ -48,6 +48,8 @@ class Args {
   static std::optional<double> ParseNumber(const std::string& text);
   /// A whole positive integer.
   static std::optional<int> ParsePositiveInt(const std::string& text);
+  /// " (default: V)" for a help text, V as the code's own default prints (1.5, 0.01).
+  static std::string Default(double value);
   /// "a,b,c" as its comma-separated items; empty for an empty text.
   static std::vector<std::string> ParseList(const std::string& text);
   /// The one of `candidates` closest to `word` by edit distance, when it is close enough to be
@@ -73,7 +75,7 @@ class Args {
 };
 
 /// What `--version` prints: Saccade's version and git commit, and the versions of the libraries
-/// it was built with (PCL, OpenNI2, LCM, TBB, Eigen, yaml-cpp).
+/// it was built with (PCL, OpenNI2, LCM, TBB, Eigen).
 std::string VersionText(const std::string& program);
 
 }  // namespace saccade

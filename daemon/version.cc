@@ -1,5 +1,5 @@
 // --version: Saccade's own version and commit, and the versions of the libraries it was built
-// against (their headers' macros; OpenNI2's also as the loaded library reports it).
+// against (their headers' macros).
 #include "daemon/args.h"
 
 #include <OniVersion.h>

@@ -116,7 +116,7 @@ void DetectionWriter::Write(const LoggedDetections& d) {
     j.Key("publish_utime").Value(static_cast<long long>(d.publish_utime));
     j.Key("frame").Value(d.frame).Key("foveated").Value(d.foveated).Key("fovea");
     JsonFloats(j, d.fovea);
-    j.Key("growth_m").Value(d.growth_m).Key("recognize_ms").Value(d.recognize_ms);
+    j.Key("growth").Value(d.growth_m).Key("recognize_ms").Value(d.recognize_ms);
     j.Key("track_ms").Value(d.track_ms).Key("instances").BeginArray();
     for (const LoggedInstance& i : d.instances) {
       j.BeginObject().Key("model").Value(i.model).Key("model_name").Value(i.model_name);

@@ -41,6 +41,9 @@ struct Tally {
 
 }  // namespace
 
+// The defaults, in the help and in the run alike.
+constexpr double kRateHz = 30, kToleranceCm = 1, kToleranceDeg = 2, kWrongCm = 5;
+
 int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade bench-track",
              "Runs the tracker on a sequence with truth at the sensor's rate (frames it has no "
@@ -52,11 +55,12 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
              "the frame's truth j (required)")
       .Value("config", "FILE.yaml", "saccaded's settings (configs/saccaded.yaml)")
       .Value("name", "NAME", "the sequence's name in the report (default: the source)")
-      .Value("rate", "HZ", "the sensor's rate, frames a second (default: 30)")
-      .Value("tolerance-cm", "C", "a frame is tracked within C centimetres (default: 1)")
-      .Value("tolerance-deg", "D", "... and D degrees of the truth (default: 2)")
-      .Value("wrong-cm", "W", "a detection over W centimetres off is on a wrong place "
-             "(default: 5)")
+      .Value("rate", "HZ", "the sensor's rate, frames a second" + Args::Default(kRateHz))
+      .Value("tolerance-cm", "C",
+             "a frame is tracked within C centimetres" + Args::Default(kToleranceCm))
+      .Value("tolerance-deg", "D", "... and D degrees of the truth" + Args::Default(kToleranceDeg))
+      .Value("wrong-cm", "W",
+             "a detection over W centimetres off is on a wrong place" + Args::Default(kWrongCm))
       .Value("frames-out", "F.jsonl", "write one JSON line a frame");
   if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
@@ -68,8 +72,9 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
     if (!v || !(*v > 0)) return std::nullopt;
     return v;
   };
-  const auto rate = number("rate", 30), tol_cm = number("tolerance-cm", 1),
-             tol_deg = number("tolerance-deg", 2), wrong_cm = number("wrong-cm", 5);
+  const auto rate = number("rate", kRateHz), tol_cm = number("tolerance-cm", kToleranceCm),
+             tol_deg = number("tolerance-deg", kToleranceDeg),
+             wrong_cm = number("wrong-cm", kWrongCm);
   if (!rate || !tol_cm || !tol_deg || !wrong_cm)
     return Usage(err, "bench-track",
                  "--rate, --tolerance-cm, --tolerance-deg and --wrong-cm expect numbers > 0");

@@ -9,6 +9,7 @@
 #include "io/fixation_log.h"
 
 #include <atomic>
+#include <cstdio>
 #include <fstream>
 #include <memory>
 #include <ostream>
@@ -114,6 +115,14 @@ int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::o
     err << "saccade fixations: " << error << "\n";
     return kExitFailure;
   }
+  if (stats.written == 0 && stats.skipped > 0) {
+    output.file.close();
+    if (args.Get("out") != "-") std::remove(args.Get("out").c_str());  // no file of a header alone
+    err << "saccade fixations: " << log << ": none of the " << stats.skipped
+        << " message(s) on the channel decode as a fixation_t (a log of an older saccaded, "
+           "whose types had another fingerprint, or of another type)\n";
+    return kExitFailure;
+  }
   if (stats.skipped > 0)
     err << "saccade fixations: " << stats.skipped << " malformed message(s) skipped\n";
   return kExitOk;
@@ -158,6 +167,14 @@ int RunDetections(const std::vector<std::string>& argv, std::ostream& out, std::
   if (!ConvertDetectionLog(log, args.Get("channel", DetectionsChannel("SACCADE")), &writer,
                            &stats, &error)) {
     err << "saccade detections: " << error << "\n";
+    return kExitFailure;
+  }
+  if (stats.written == 0 && stats.skipped > 0) {
+    file.close();
+    if (path != "-") std::remove(path.c_str());  // no file of a header alone
+    err << "saccade detections: " << log << ": none of the " << stats.skipped
+        << " message(s) on the channel decode as a detections_t (a log of an older saccaded, "
+           "whose types had another fingerprint, or of another type)\n";
     return kExitFailure;
   }
   if (stats.skipped > 0)

@@ -96,19 +96,23 @@ int RunSegment(const std::vector<std::string>& argv, std::ostream& out, std::ost
              "Cuts an object out of a capture: drops points beyond --z-max, removes planes "
              "until --plane-fraction of the points is gone, clusters the rest and writes the "
              "picked cluster as a model (kept in the capture's camera frame).");
+  const SegmentationOptions defaults;
   args.Value("scene", "S.pcd", "the capture (required)")
       .Value("out", "MODEL.pcd", "the model to write (required)")
-      .Value("z-max", "M", "drop points farther than M metres (default: 1.5)")
-      .Value("plane-fraction", "F", "remove planes until this fraction of the points is gone "
-             "(default: 0.5)")
-      .Value("plane-distance", "D", "a point within D metres of a plane belongs to it "
-             "(default: 0.01)")
-      .Value("cluster-distance", "D", "neighbours closer than D metres join a cluster "
-             "(default: 0.01)")
-      .Value("min-points", "N", "drop clusters of fewer points (default: 200)")
+      .Value("z-max", "M", "drop points farther than M metres" + Args::Default(defaults.z_max_m))
+      .Value("plane-fraction", "F",
+             "remove planes until this fraction of the points is gone" +
+                 Args::Default(defaults.plane_fraction))
+      .Value("plane-distance", "D",
+             "a point within D metres of a plane belongs to it" +
+                 Args::Default(defaults.plane_distance_m))
+      .Value("cluster-distance", "D",
+             "neighbours closer than D metres join a cluster" +
+                 Args::Default(defaults.cluster_distance_m))
+      .Value("min-points", "N", "drop clusters of fewer points" + Args::Default(defaults.min_points))
       .Value("pick", "RULE", "largest, nearest (to the camera) or a cluster's index "
              "(default: largest)")
-      .Value("seed", "N", "RANSAC's seed, a whole number >= 1 (default: 1)")
+      .Value("seed", "N", "RANSAC's seed, a whole number >= 1" + Args::Default(defaults.seed))
       .Switch("json", "print one JSON object instead of text");
   if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;

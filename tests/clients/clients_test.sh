@@ -10,7 +10,7 @@ build=$(cd "$1" && pwd)
 source_dir=$(cd "$2" && pwd)
 clients=$build/io/clients
 work=$(mktemp -d)
-url="udpm://239.255.76.67:$((7500 + $$ % 200))?ttl=0"
+url="udpm://239.255.76.67:$((7500 + $$ % 150))?ttl=0"  # not 7667, LCM's and saccaded's default
 pids=()
 trap 'for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; rm -rf "$work"' EXIT
 fail() { echo "clients test: $*" >&2; exit 1; }

@@ -1,4 +1,5 @@
 // End-to-end tests of the `saccade` binary: bad input gives one line and the right exit code.
+#include "core/segmentation.h"
 #include "io/cloud_io.h"
 #include "support/test_data.h"
 
@@ -81,6 +82,13 @@ TEST(Cli, EveryCommandsHelpListsFlagsItAccepts) {
       EXPECT_EQ(r.out.find("unknown flag"), std::string::npos) << flag << ": " << r.out;
     }
   }
+  // Defaults said as the code has them.
+  const std::string segment = Saccade("segment --help").out;
+  std::ostringstream z_max;
+  z_max << "(default: " << saccade::SegmentationOptions{}.z_max_m << ")";
+  const auto at = segment.find("--z-max M");
+  ASSERT_NE(at, std::string::npos) << segment;
+  EXPECT_EQ(segment.find(z_max.str(), at), segment.find("(default:", at)) << segment;
   // The flags documented nowhere before: --threads of recognize and bench.
   EXPECT_NE(Saccade("recognize --help").out.find("--threads N"), std::string::npos);
   EXPECT_NE(Saccade("bench --help").out.find("--threads N"), std::string::npos);
@@ -139,6 +147,10 @@ TEST(Cli, AMistypedFlagOrCommandGetsTheNearestOne) {
   r = Saccade("recognize --model --plain --scene b.pcd");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("flag --model needs a value"), std::string::npos) << r.out;
+  // An empty value after '=' is no value (CLI11 would take the next argument).
+  r = Saccade("segment --scene= --out m.pcd");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("flag --scene needs a value"), std::string::npos) << r.out;
   // A value that is negative is a value, and the last of a repeated flag counts.
   r = Saccade("recognize --model a.pcd --scene b.pcd --fovea 9 --fovea -0.1,0,1");
   EXPECT_EQ(r.code, 1) << r.out;  // past the flags: a.pcd does not exist

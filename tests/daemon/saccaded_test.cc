@@ -332,6 +332,19 @@ TEST(Saccaded, TracksAMovingTargetThroughAnOcclusionOverRealLcm) {
                               std::to_string(first->sensor_utime);
     EXPECT_NE(text.find(stamp), std::string::npos) << stamp << "\n" << text.substr(0, 400);
   }
+  // Messages of another type (or of an older saccaded's, another fingerprint): one line, exit
+  // 1, and no file of a header alone.
+  const std::string wrong = box.Path("wrong.csv");
+  EXPECT_EQ(Wait(Spawn({kSaccade, "detections", logger.path(), "--channel", "SACCADE_FIXATION",
+                        "--out", wrong},
+                       box.Path("cout"), box.Path("cerr")))
+                .code,
+            1);
+  EXPECT_NE(ReadFile(box.Path("cerr")).find("none of the " + std::to_string(n) +
+                                            " message(s) on the channel decode as a detections_t"),
+            std::string::npos)
+      << ReadFile(box.Path("cerr"));
+  EXPECT_FALSE(fs::exists(wrong));
 }
 
 // The daemon's own LCM client in the test: waits for a condition on the status channel.

@@ -167,7 +167,7 @@ TEST(DetectionWriter, OneCsvRowPerInstanceWithUnitsAndOneJsonLinePerFrame) {
   EXPECT_EQ(n, 2);  // two instances; the empty frame writes no row
   const std::string lines = jsonl.str();
   EXPECT_EQ(std::count(lines.begin(), lines.end(), '\n'), 2);
-  EXPECT_NE(lines.find("\"growth_m\":0.1,"), std::string::npos) << lines;
+  EXPECT_NE(lines.find("\"growth\":0.1,"), std::string::npos) << lines;
   EXPECT_NE(lines.find("\"instances\":[]"), std::string::npos) << lines;
 }
 
