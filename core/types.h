@@ -105,10 +105,10 @@ struct Detection {
 /// What one processed frame produced: every model's instances and how the frame was searched
 /// (SACCADE_DETECTIONS). Positions are in the camera frame.
 struct FrameDetections {
-  std::int64_t seq = 0;            // the frame's sequence number
-  std::int64_t capture_utime = 0;  // the frame's capture time (Frame::capture_utime)
+  std::int64_t seq = 0;                // the frame's sequence number
+  std::int64_t capture_utime = 0;      // the frame's capture time (Frame::capture_utime)
   std::int64_t arrival_steady_ns = 0;  // when it reached the host (Frame::arrival_steady_ns)
-  bool foveated = true;            // false: the whole frame was searched
+  bool foveated = true;                // false: the whole frame was searched
   Eigen::Vector3f fovea_m = Eigen::Vector3f::Zero();  // the fovea this frame was foveated at
   float growth_m = 0;                                 // G it was foveated with
   std::int64_t fixation_seq = -1;                     // the frame whose fixation was used

@@ -27,7 +27,8 @@ constexpr const char* kAbout =
     "attention loop's fixation over LCM (docs/LCM.md). Without --config Saccade's defaults "
     "apply (configs/saccaded.yaml writes them out, configs/paper.yaml holds the paper's); the "
     "flags override the file.";
-constexpr const char* kFooter = R"(signals: SIGTERM/SIGINT finish the frames in flight and exit 0; SIGHUP reloads the config
+constexpr const char* kFooter =
+    R"(signals: SIGTERM/SIGINT finish the frames in flight and exit 0; SIGHUP reloads the config
 file (a bad one is reported and the running one kept).
 
 exit codes: 0 stopped cleanly or the source ended, 1 the source, a model or LCM failed,
@@ -36,9 +37,9 @@ exit codes: 0 stopped cleanly or the source ended, 1 the source, a model or LCM 
 // systemctl status's one line: what the pipeline does, how fast, what it lost.
 std::string ServiceStatus(const saccade::StatusReport& s) {
   char counts[160];
-  std::snprintf(counts, sizeof counts, ", %.1f fps, %lld dropped, %lld skipped, %lld unsent",
-                s.fps, static_cast<long long>(s.frames_dropped),
-                static_cast<long long>(s.frames_skipped), static_cast<long long>(s.frames_unsent));
+  std::snprintf(counts, sizeof counts, ", %.1f fps, %lld dropped, %lld skipped, %lld unsent", s.fps,
+                static_cast<long long>(s.frames_dropped), static_cast<long long>(s.frames_skipped),
+                static_cast<long long>(s.frames_unsent));
   std::string line = s.paused ? "paused" : saccade::ModeName(s.mode);
   std::transform(line.begin(), line.end(), line.begin(), [](char c) {
     return c == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -75,7 +76,8 @@ int main(int argc, char** argv) {
   const std::vector<std::string> argv_list(argv + 1, argv + argc);
   Args args("saccaded", kAbout);
   args.Value("config", "FILE.yaml", "the settings file; every key is in configs/saccaded.yaml")
-      .Value("source", "SPEC", "where frames come from, over the file's 'source' (see saccade "
+      .Value("source", "SPEC",
+             "where frames come from, over the file's 'source' (see saccade "
              "record --help; docs/SOURCES.md)")
       .Value("model", "M.pcd", "the object's model, over the file's 'model'")
       .Value("lcm-url", "URL", "the LCM network, over the file's 'lcm.url'")

@@ -332,11 +332,10 @@ std::string PublishStage::TruthLine() const {
                 "target within %.0f cm in %lld of %lld frames it was visible in, median error %s",
                 kTrackedWithinM * 100, static_cast<long long>(truth_tracked_),
                 static_cast<long long>(truth_visible_),
-                median_mm + 1 == truth_error_mm_.size()
-                    ? "over 1 m (or not found)"
-                    : (std::to_string(median_mm / 10) + "." + std::to_string(median_mm % 10) +
-                       " cm")
-                          .c_str());
+                median_mm + 1 == truth_error_mm_.size() ? "over 1 m (or not found)"
+                                                        : (std::to_string(median_mm / 10) + "." +
+                                                           std::to_string(median_mm % 10) + " cm")
+                                                              .c_str());
   return line;
 }
 

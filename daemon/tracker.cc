@@ -191,8 +191,7 @@ StatusReport Tracker::Impl::PublishStatus(double period_s, bool final) {
 bool Tracker::Impl::Waiting() {
   const std::string state = source->Stats().state;
   std::lock_guard<std::mutex> lock(run_mutex);
-  return paused || state.rfind("reconnecting", 0) == 0 ||
-         state.rfind("waiting for device", 0) == 0;
+  return paused || state.rfind("reconnecting", 0) == 0 || state.rfind("waiting for device", 0) == 0;
 }
 
 // The pipeline's first stage: the next frame, or nullptr when paused into a stop, stopped, or

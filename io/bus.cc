@@ -1,8 +1,8 @@
 #include "io/bus.h"
 
 #include "core/fail.h"
-#include "io/log.h"
 #include "io/frame_source.h"
+#include "io/log.h"
 #include "io/text.h"
 
 #include <poll.h>

@@ -11,10 +11,10 @@ namespace {
 
 // detections_t's fields after its 8-byte type hash, up to num_instances; then instance_t's
 // (nested structs carry no hash).
-constexpr std::initializer_list<int> kDetectionsLayout = {8, 8, 8, 8, kLcmString, 1, 24, 8,
-                                                          8, 4, 4, 4};
-constexpr std::initializer_list<int> kInstanceLayout = {
-    8, 4, kLcmString, 24, 32, 24, 4, 4, 4, 4, 4, 4, 1, kLcmString};
+constexpr std::initializer_list<int> kDetectionsLayout = {8,  8, 8, 8, kLcmString, 1,
+                                                          24, 8, 8, 4, 4,          4};
+constexpr std::initializer_list<int> kInstanceLayout = {8, 4, kLcmString, 24, 32, 24, 4,
+                                                        4, 4, 4,          4,  4,  1,  kLcmString};
 constexpr std::size_t kSmallestInstance = 8 + 4 + 5 + 24 + 32 + 24 + 4 + 16 + 4 + 1 + 5;
 
 bool DetectionsFit(const unsigned char* data, std::size_t size) {
@@ -100,8 +100,8 @@ void DetectionWriter::Write(const LoggedDetections& d) {
            << i.model << ',' << CsvField(i.model_name) << ',' << i.track_id << ','
            << CsvField(i.track_state);
       CsvFloats(out_, i.centroid);
-      CsvFloats(out_, std::array<float, 4>{i.confidence, i.fitness, i.coverage,
-                                           i.colour_agreement});
+      CsvFloats(out_,
+                std::array<float, 4>{i.confidence, i.fitness, i.coverage, i.colour_agreement});
       out_ << ',' << i.votes;
       CsvFloats(out_, i.translation);
       CsvFloats(out_, i.quaternion);

@@ -27,8 +27,8 @@ struct LoggedInstance {
 
 /// One detections_t as logged.
 struct LoggedDetections {
-  std::int64_t utime = 0;          // when the frame reached the host, epoch microseconds
-  std::int64_t sensor_utime = 0;   // its capture time on the sensor's clock, microseconds
+  std::int64_t utime = 0;         // when the frame reached the host, epoch microseconds
+  std::int64_t sensor_utime = 0;  // its capture time on the sensor's clock, microseconds
   std::int64_t seq = 0;
   std::int64_t publish_utime = 0;  // when saccaded published it, epoch microseconds
   std::string frame;

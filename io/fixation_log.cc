@@ -122,8 +122,8 @@ struct Listener {
 }  // namespace
 
 bool ListenFixations(const std::string& url, const std::string& channel, FixationWriter* writer,
-                     std::int64_t max_records, const std::atomic<bool>& stop,
-                     LcmLogStats* stats, std::string* error) {
+                     std::int64_t max_records, const std::atomic<bool>& stop, LcmLogStats* stats,
+                     std::string* error) {
   lcm::LCM lcm(url);
   if (!lcm.good()) {
     return Fail(error, "cannot open LCM at '" + url + "'");

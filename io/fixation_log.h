@@ -48,7 +48,7 @@ bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
 /// least every 200 ms) or `max_records` are written (0: no limit). False with `error` when LCM
 /// cannot be opened.
 bool ListenFixations(const std::string& url, const std::string& channel, FixationWriter* writer,
-                     std::int64_t max_records, const std::atomic<bool>& stop,
-                     LcmLogStats* stats, std::string* error);
+                     std::int64_t max_records, const std::atomic<bool>& stop, LcmLogStats* stats,
+                     std::string* error);
 
 }  // namespace saccade

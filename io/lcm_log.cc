@@ -109,7 +109,6 @@ std::uint64_t NextSync(std::ifstream& in, std::uint64_t from, std::uint64_t size
 
 }  // namespace
 
-
 bool ReadLcmLog(const std::string& log_path, const std::string& channel,
                 const std::function<bool(const unsigned char* data, std::size_t size)>& message,
                 LcmLogStats* stats, std::string* error) {
@@ -157,4 +156,3 @@ bool ReadLcmLog(const std::string& log_path, const std::string& channel,
 }
 
 }  // namespace saccade
-

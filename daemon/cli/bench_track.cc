@@ -46,12 +46,14 @@ constexpr double kRateHz = 30, kToleranceCm = 1, kToleranceDeg = 2, kWrongCm = 5
 
 int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade bench-track",
-             "Runs the tracker on a sequence with truth at the sensor's rate (frames it has no "
-             "time for are dropped): the share of visible frames within tolerance, frames to "
-             "re-acquire, frames on a wrong place, costs. The last line is one JSON object.");
-  args.Value("source", "SPEC", "the frames and their truth (see saccade record --help for "
+            "Runs the tracker on a sequence with truth at the sensor's rate (frames it has no "
+            "time for are dropped): the share of visible frames within tolerance, frames to "
+            "re-acquire, frames on a wrong place, costs. The last line is one JSON object.");
+  args.Value("source", "SPEC",
+             "the frames and their truth (see saccade record --help for "
              "SPEC) (required)")
-      .Value("model", "M[,M2,...]", "the models, the target first; model j is scored against "
+      .Value("model", "M[,M2,...]",
+             "the models, the target first; model j is scored against "
              "the frame's truth j (required)")
       .Value("config", "FILE.yaml", "saccaded's settings (configs/saccaded.yaml)")
       .Value("name", "NAME", "the sequence's name in the report (default: the source)")

@@ -156,14 +156,16 @@ double Median(std::vector<double> v) {
 
 int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade recognize",
-             "Finds the model in one scene and prints each instance's pose (camera frame, "
-             "metres), its centroid and its votes.");
+            "Finds the model in one scene and prints each instance's pose (camera frame, "
+            "metres), its centroid and its votes.");
   args.Value("model", "M.pcd", "the object's model: a PCD cloud in metres (required)")
       .Value("scene", "S.pcd", "the scene: an organized or unorganized PCD cloud (required)")
-      .Value("fovea", "x,y,z", "the fixation point, in metres in the camera frame (required "
+      .Value("fovea", "x,y,z",
+             "the fixation point, in metres in the camera frame (required "
              "unless --plain)")
       .Switch("plain", "recognize on the whole scene, without foveation (the gold standard)")
-      .Value("config", "FILE.yaml", "recognition settings over Saccade's defaults "
+      .Value("config", "FILE.yaml",
+             "recognition settings over Saccade's defaults "
              "(configs/saccaded.yaml lists them)")
       .Value("threads", "N", "worker threads (default: one per core)")
       .Switch("json", "print one JSON object instead of text");
@@ -253,8 +255,8 @@ double TotalMedian(const BenchRun& run) {
 
 int RunBench(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade bench",
-             "Times plain recognition (the gold standard) against foveated recognition on one "
-             "frame, stage by stage; medians over --frames runs.");
+            "Times plain recognition (the gold standard) against foveated recognition on one "
+            "frame, stage by stage; medians over --frames runs.");
   args.Value("model", "M.pcd", "the object's model: a PCD cloud in metres (required)")
       .Value("scene", "S.pcd", "the scene: a PCD cloud (required)")
       .Value("fovea", "x,y,z", "the fixation point, in metres in the camera frame (required)")
@@ -375,8 +377,8 @@ int RunBench(const std::vector<std::string>& argv, std::ostream& out, std::ostre
 
 int RunDemo(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade demo",
-             "Renders a synthetic Kinect scene and finds in it a target modelled from another "
-             "capture. Exit 1 when the target is not found.");
+            "Renders a synthetic Kinect scene and finds in it a target modelled from another "
+            "capture. Exit 1 when the target is not found.");
   args.Value("seed", "N", "the scene's random seed, a whole number >= 1 (default: 1)");
   if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;

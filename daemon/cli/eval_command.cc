@@ -119,11 +119,12 @@ std::optional<int> LoadDatasetScenes(const Args& args, std::optional<float> sphe
 
 int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade eval",
-             "Runs recognition configurations over frames with ground truth (--dataset and "
-             "--model) or over labelled cross-capture cases (--cases); writes Table 7 style "
-             "tables (CSV, Markdown), every trial's counts and stage times, TP/FP against the "
-             "distance threshold, the fovea-distance sweep, and their PNG plots (gnuplot).");
-  args.Value("configs", "FILE.yaml", "the configurations to compare (required; "
+            "Runs recognition configurations over frames with ground truth (--dataset and "
+            "--model) or over labelled cross-capture cases (--cases); writes Table 7 style "
+            "tables (CSV, Markdown), every trial's counts and stage times, TP/FP against the "
+            "distance threshold, the fovea-distance sweep, and their PNG plots (gnuplot).");
+  args.Value("configs", "FILE.yaml",
+             "the configurations to compare (required; "
              "configs/paper-configs.yaml)")
       .Value("dataset", "DIR|SPEC|FILE.pcd", "the frames: a folder, a source spec or one PCD")
       .Value("model", "M.pcd", "the object's model, with --dataset")
@@ -131,10 +132,12 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
       .Value("truth-pose", "POSE.txt", "the model's true pose in every frame (a 4x4 matrix)")
       .Value("sphere-radius", "R", "also score with a sphere of R metres fitted to the truth")
       .Value("frames", "N", "use at most N frames of the dataset")
-      .Value("cases", "CASES.yaml", "labelled cross-capture cases (they bring models and "
+      .Value("cases", "CASES.yaml",
+             "labelled cross-capture cases (they bring models and "
              "scenes)")
       .Value("data", "DIR", "where the cases' files are (default: ../shared/data)")
-      .Value("protocols", "a,b,c", "with --cases: the cross-capture protocols to run "
+      .Value("protocols", "a,b,c",
+             "with --cases: the cross-capture protocols to run "
              "(default: a)")
       .Value("only", "NAME,...", "with --cases: run only these objects")
       .Value("every", "N", "with --cases: run every Nth case (default: 1)")

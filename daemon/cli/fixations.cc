@@ -52,9 +52,10 @@ bool OpenOutput(const Args& args, std::ostream& out, Output* output, std::string
 
 int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade log-fixations",
-             "Subscribes to saccaded's fixations and logs them until SIGINT (or --count of "
-             "them).");
-  args.Value("out", "FILE.csv|FILE.jsonl", "where to write, in the format its name says; - "
+            "Subscribes to saccaded's fixations and logs them until SIGINT (or --count of "
+            "them).");
+  args.Value("out", "FILE.csv|FILE.jsonl",
+             "where to write, in the format its name says; - "
              "for CSV on stdout (required)")
       .Value("channel", "NAME", "the fixation channel (default: SACCADE_FIXATION)")
       .Value("lcm-url", "URL", "the LCM network (default: " + kDefaultUrl + ")")
@@ -92,10 +93,11 @@ int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std
 
 int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade fixations",
-             "Converts the fixations in an lcm-logger log to CSV or JSON lines, as "
-             "log-fixations writes them.");
+            "Converts the fixations in an lcm-logger log to CSV or JSON lines, as "
+            "log-fixations writes them.");
   args.Positional("LOG.lcmlog", "the lcm-logger log (required)")
-      .Value("out", "FILE.csv|FILE.jsonl", "where to write, in the format its name says; - "
+      .Value("out", "FILE.csv|FILE.jsonl",
+             "where to write, in the format its name says; - "
              "for CSV on stdout (required)")
       .Value("channel", "NAME", "the fixation channel (default: SACCADE_FIXATION)");
   if (auto code = args.Parse(argv, out, err)) return *code;
@@ -110,8 +112,8 @@ int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::o
   LcmLogStats stats;
   // The log is checked before the output is opened: a log that is not one writes nothing.
   if (!CheckLcmLog(log, &error) || !OpenOutput(args, out, &output, &error) ||
-      !ConvertFixationLog(log, args.Get("channel", FixationChannel("SACCADE")),
-                          output.writer.get(), &stats, &error)) {
+      !ConvertFixationLog(log, args.Get("channel", FixationChannel("SACCADE")), output.writer.get(),
+                          &stats, &error)) {
     err << "saccade fixations: " << error << "\n";
     return kExitFailure;
   }
@@ -137,7 +139,8 @@ int RunDetections(const std::vector<std::string>& argv, std::ostream& out, std::
             "Converts the detections in an lcm-logger log to CSV (one row per instance: where "
             "it is, its confidence and track) or JSON lines (one line per frame).");
   args.Positional("LOG.lcmlog", "the lcm-logger log (required)")
-      .Value("out", "FILE.csv|FILE.jsonl", "where to write, in the format its name says; - "
+      .Value("out", "FILE.csv|FILE.jsonl",
+             "where to write, in the format its name says; - "
              "for CSV on stdout (required)")
       .Value("channel", "NAME", "the detections channel (default: SACCADE_DETECTIONS)");
   if (auto code = args.Parse(argv, out, err)) return *code;
@@ -164,8 +167,8 @@ int RunDetections(const std::vector<std::string>& argv, std::ostream& out, std::
   }
   DetectionWriter writer(path == "-" ? out : file, format);
   LcmLogStats stats;
-  if (!ConvertDetectionLog(log, args.Get("channel", DetectionsChannel("SACCADE")), &writer,
-                           &stats, &error)) {
+  if (!ConvertDetectionLog(log, args.Get("channel", DetectionsChannel("SACCADE")), &writer, &stats,
+                           &error)) {
     err << "saccade detections: " << error << "\n";
     return kExitFailure;
   }

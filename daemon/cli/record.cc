@@ -18,9 +18,10 @@ namespace saccade {
 
 int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade record",
-             "Captures frames from a source into a folder, with ground truth when the source "
-             "has it; Ctrl-C ends it and keeps what was captured.");
-  args.Value("source", "SPEC", "where frames come from (required): "
+            "Captures frames from a source into a folder, with ground truth when the source "
+            "has it; Ctrl-C ends it and keeps what was captured.");
+  args.Value("source", "SPEC",
+             "where frames come from (required): "
              "openni2://[#N|URI|SERIAL][?registration=auto|device|saccade|none&calibration=F], "
              "freenect://[N|SERIAL][?calibration=F&raw=1], "
              "PATH.oni[?mode=realtime|fast|step&loop=1], pcd:DIR[?rate=HZ&loop=1], "
@@ -29,7 +30,8 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
              "file); docs/SOURCES.md")
       .Value("out", "DIR", "the folder to write (required)")
       .Value("frames", "N", "stop after N frames (default: the source's end or Ctrl-C)")
-      .Value("format", "FORMAT", "pcd (clouds), depth (16-bit PNG in millimetres), oni "
+      .Value("format", "FORMAT",
+             "pcd (clouds), depth (16-bit PNG in millimetres), oni "
              "(OpenNI2) or fakenect (a Kinect v1 dump) (default: pcd)");
   if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;

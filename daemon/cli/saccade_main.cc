@@ -30,8 +30,7 @@ constexpr Command kCommands[] = {
     {"detections", "convert the detections in an lcm-logger log (CSV, JSON lines)",
      saccade::RunDetections},
     {"segment", "cut an object out of a capture as a model", saccade::RunSegment},
-    {"eval", "recognition configurations over frames or cases with ground truth",
-     saccade::RunEval},
+    {"eval", "recognition configurations over frames or cases with ground truth", saccade::RunEval},
     {"demo", "find a target in a synthetic Kinect scene", saccade::RunDemo},
 };
 
@@ -40,8 +39,8 @@ void PrintUsage(std::ostream& out) {
          "commands:\n";
   for (const Command& c : kCommands) {
     const std::string name = c.name;
-    out << "  " << name << std::string(name.size() < 15 ? 15 - name.size() : 1, ' ')
-        << c.summary << "\n";
+    out << "  " << name << std::string(name.size() < 15 ? 15 - name.size() : 1, ' ') << c.summary
+        << "\n";
   }
   out << "\n  --version      print the version and the libraries' versions\n"
          "\nexit codes: 0 ok, 1 input could not be processed, 2 bad usage\n";

@@ -93,9 +93,9 @@ std::optional<std::size_t> Pick(const PickRule& rule, const Segmentation& s, std
 
 int RunSegment(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade segment",
-             "Cuts an object out of a capture: drops points beyond --z-max, removes planes "
-             "until --plane-fraction of the points is gone, clusters the rest and writes the "
-             "picked cluster as a model (kept in the capture's camera frame).");
+            "Cuts an object out of a capture: drops points beyond --z-max, removes planes "
+            "until --plane-fraction of the points is gone, clusters the rest and writes the "
+            "picked cluster as a model (kept in the capture's camera frame).");
   const SegmentationOptions defaults;
   args.Value("scene", "S.pcd", "the capture (required)")
       .Value("out", "MODEL.pcd", "the model to write (required)")
@@ -109,8 +109,10 @@ int RunSegment(const std::vector<std::string>& argv, std::ostream& out, std::ost
       .Value("cluster-distance", "D",
              "neighbours closer than D metres join a cluster" +
                  Args::Default(defaults.cluster_distance_m))
-      .Value("min-points", "N", "drop clusters of fewer points" + Args::Default(defaults.min_points))
-      .Value("pick", "RULE", "largest, nearest (to the camera) or a cluster's index "
+      .Value("min-points", "N",
+             "drop clusters of fewer points" + Args::Default(defaults.min_points))
+      .Value("pick", "RULE",
+             "largest, nearest (to the camera) or a cluster's index "
              "(default: largest)")
       .Value("seed", "N", "RANSAC's seed, a whole number >= 1" + Args::Default(defaults.seed))
       .Switch("json", "print one JSON object instead of text");

@@ -47,9 +47,9 @@ std::string WriteFile(const std::string& name, const std::string& text) {
 }
 
 // The subcommands, as `saccade --help` lists them.
-const std::vector<std::string> kCommands = {"recognize",     "bench",     "bench-track",
-                                            "record",        "log-fixations", "fixations", "detections",
-                                            "segment",       "eval",      "demo"};
+const std::vector<std::string> kCommands = {"recognize",     "bench",     "bench-track", "record",
+                                            "log-fixations", "fixations", "detections",  "segment",
+                                            "eval",          "demo"};
 
 // The flags a --help lists: every "  --name" that starts an entry.
 std::vector<std::string> HelpFlags(const std::string& help) {
@@ -129,19 +129,16 @@ TEST(Cli, AMistypedFlagOrCommandGetsTheNearestOne) {
   CliRun r = Saccade("recognize --model a.pcd --scene b.pcd --fovae 0,0,1");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(Lines(r.out), 1) << r.out;
-  EXPECT_NE(r.out.find("unknown flag --fovae (did you mean --fovea?)"), std::string::npos)
-      << r.out;
+  EXPECT_NE(r.out.find("unknown flag --fovae (did you mean --fovea?)"), std::string::npos) << r.out;
   r = Saccade("segment --scene s.pcd --out m.pcd --plane-fration 0.5");
   EXPECT_NE(r.out.find("did you mean --plane-fraction?"), std::string::npos) << r.out;
   r = Saccade("reconize --plain");
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.out.find("unknown command 'reconize' (did you mean recognize?)"),
-            std::string::npos)
+  EXPECT_NE(r.out.find("unknown command 'reconize' (did you mean recognize?)"), std::string::npos)
       << r.out;
   // Nothing near: no guess.
   r = Saccade("recognize --plain --zzzzzzzz");
-  EXPECT_NE(r.out.find("unknown flag --zzzzzzzz (see saccade recognize --help)"),
-            std::string::npos)
+  EXPECT_NE(r.out.find("unknown flag --zzzzzzzz (see saccade recognize --help)"), std::string::npos)
       << r.out;
   // A flag where a value should be is not taken as the value.
   r = Saccade("recognize --model --plain --scene b.pcd");

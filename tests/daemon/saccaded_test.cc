@@ -340,8 +340,9 @@ TEST(Saccaded, TracksAMovingTargetThroughAnOcclusionOverRealLcm) {
                        box.Path("cout"), box.Path("cerr")))
                 .code,
             1);
-  EXPECT_NE(ReadFile(box.Path("cerr")).find("none of the " + std::to_string(n) +
-                                            " message(s) on the channel decode as a detections_t"),
+  EXPECT_NE(ReadFile(box.Path("cerr"))
+                .find("none of the " + std::to_string(n) +
+                      " message(s) on the channel decode as a detections_t"),
             std::string::npos)
       << ReadFile(box.Path("cerr"));
   EXPECT_FALSE(fs::exists(wrong));
@@ -527,20 +528,25 @@ TEST(Saccaded, TellsSystemdItsStateStatusAndWatchdogAndLogsWithJournalPriorities
   std::ofstream(err_path).close();
   struct stat err_stat {};
   ASSERT_EQ(stat(err_path.c_str(), &err_stat), 0);
-  const std::string journal = "JOURNAL_STREAM=" + std::to_string(err_stat.st_dev) + ":" +
-                              std::to_string(err_stat.st_ino);
-  const std::vector<std::string> args = {kSaccaded, "--config", kSourceDir + "/configs/demo.yaml",
-                                         "--source", "synthetic:static?rate=10&loop=1",
-                                         "--lcm-url", box.url};
+  const std::string journal =
+      "JOURNAL_STREAM=" + std::to_string(err_stat.st_dev) + ":" + std::to_string(err_stat.st_ino);
+  const std::vector<std::string> args = {kSaccaded,
+                                         "--config",
+                                         kSourceDir + "/configs/demo.yaml",
+                                         "--source",
+                                         "synthetic:static?rate=10&loop=1",
+                                         "--lcm-url",
+                                         box.url};
   // A 0.4 s watchdog: pinged every 0.2 s (half of it), as long as frames flow.
-  Child daemon = Spawn(args, box.Path("out"), err_path,
-                       {systemd.Env(), "WATCHDOG_USEC=400000", journal});
+  Child daemon =
+      Spawn(args, box.Path("out"), err_path, {systemd.Env(), "WATCHDOG_USEC=400000", journal});
   ASSERT_TRUE(systemd.WaitFor("READY=1")) << systemd.All();
   for (int ping = 0; ping < 3; ++ping) ASSERT_TRUE(systemd.WaitFor("WATCHDOG=1")) << systemd.All();
   ASSERT_TRUE(systemd.WaitFor("STATUS=")) << systemd.All();
   const std::string status = systemd.Last("STATUS=");
-  EXPECT_TRUE(std::regex_search(status, std::regex("^STATUS=(searching|tracking|full scan), [0-9.]+ "
-                                                   "fps, [0-9]+ dropped, [0-9]+ skipped")))
+  EXPECT_TRUE(
+      std::regex_search(status, std::regex("^STATUS=(searching|tracking|full scan), [0-9.]+ "
+                                           "fps, [0-9]+ dropped, [0-9]+ skipped")))
       << status;
   daemon.Signal(SIGHUP);
   EXPECT_TRUE(systemd.WaitFor("RELOADING=1")) << systemd.All();
