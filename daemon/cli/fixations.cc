@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <ostream>
 
@@ -91,98 +92,86 @@ int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std
   return kExitOk;
 }
 
-int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args("saccade fixations",
-            "Converts the fixations in an lcm-logger log to CSV or JSON lines, as "
-            "log-fixations writes them.");
+namespace {
+
+// What a log conversion needs of its message type: the converter writing `log`'s messages on
+// `channel` to `out` in `format`.
+using Converter =
+    std::function<bool(const std::string& log, const std::string& channel, std::ostream& out,
+                       TableFormat format, LcmLogStats* stats, std::string* error)>;
+
+// `saccade fixations` and `saccade detections`: LOG.lcmlog --out FILE [--channel NAME]. The log
+// is checked before the output is opened (a log that is not one writes nothing), and a log in
+// which nothing decodes is an error that leaves no file of a header alone.
+int RunLogConversion(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err,
+                     const std::string& command, const std::string& type, const std::string& about,
+                     const std::string& channel, const Converter& convert) {
+  Args args("saccade " + command, about);
   args.Positional("LOG.lcmlog", "the lcm-logger log (required)")
       .Value("out", "FILE.csv|FILE.jsonl",
-             "where to write, in the format its name says; - "
-             "for CSV on stdout (required)")
-      .Value("channel", "NAME", "the fixation channel (default: SACCADE_FIXATION)");
+             "where to write, in the format its name says; - for CSV on stdout (required)")
+      .Value("channel", "NAME", "the channel (default: " + channel + ")");
   if (auto code = args.Parse(argv, out, err)) return *code;
   if (!args.Has("LOG.lcmlog"))
-    return Usage(err, "fixations", "the first argument must be an lcm-logger log file");
-  const std::string log = args.Get("LOG.lcmlog");
-  std::string error;
-  if (!args.Has("out")) return Usage(err, "fixations", kOutRequired);
-  FixationWriter::Format format;
-  if (!OutputFormat(args, &format, &error)) return Usage(err, "fixations", error);
-  Output output;
-  LcmLogStats stats;
-  // The log is checked before the output is opened: a log that is not one writes nothing.
-  if (!CheckLcmLog(log, &error) || !OpenOutput(args, out, &output, &error) ||
-      !ConvertFixationLog(log, args.Get("channel", FixationChannel("SACCADE")), output.writer.get(),
-                          &stats, &error)) {
-    err << "saccade fixations: " << error << "\n";
-    return kExitFailure;
-  }
-  if (stats.written == 0 && stats.skipped > 0) {
-    output.file.close();
-    if (args.Get("out") != "-") std::remove(args.Get("out").c_str());  // no file of a header alone
-    err << "saccade fixations: " << log << ": none of the " << stats.skipped
-        << " message(s) on the channel decode as a fixation_t (a log of an older saccaded, "
-           "whose types had another fingerprint, or of another type)\n";
-    return kExitFailure;
-  }
-  if (stats.skipped > 0)
-    err << "saccade fixations: " << stats.skipped << " malformed message(s) skipped\n";
-  return kExitOk;
-}
-
-}  // namespace saccade
-
-namespace saccade {
-
-int RunDetections(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args("saccade detections",
-            "Converts the detections in an lcm-logger log to CSV (one row per instance: where "
-            "it is, its confidence and track) or JSON lines (one line per frame).");
-  args.Positional("LOG.lcmlog", "the lcm-logger log (required)")
-      .Value("out", "FILE.csv|FILE.jsonl",
-             "where to write, in the format its name says; - "
-             "for CSV on stdout (required)")
-      .Value("channel", "NAME", "the detections channel (default: SACCADE_DETECTIONS)");
-  if (auto code = args.Parse(argv, out, err)) return *code;
-  if (!args.Has("LOG.lcmlog"))
-    return Usage(err, "detections", "the first argument must be an lcm-logger log file");
-  if (!args.Has("out")) return Usage(err, "detections", kOutRequired);
+    return Usage(err, command, "the first argument must be an lcm-logger log file");
+  if (!args.Has("out")) return Usage(err, command, kOutRequired);
   const std::string log = args.Get("LOG.lcmlog"), path = args.Get("out");
   std::string error;
   TableFormat format;
   if (!TableFormatOf(path == "-" ? "-.csv" : path, &format, &error))
-    return Usage(err, "detections", error);
-  // The log is checked before the output is opened: a log that is not one writes nothing.
-  std::ofstream file;
-  if (!CheckLcmLog(log, &error)) {
-    err << "saccade detections: " << error << "\n";
+    return Usage(err, command, error);
+  const auto fail = [&](const std::string& message) {
+    err << "saccade " << command << ": " << message << "\n";
     return kExitFailure;
-  }
+  };
+  if (!CheckLcmLog(log, &error)) return fail(error);
+  std::ofstream file;
   if (path != "-") {
     file.open(path);
-    if (!file) {
-      err << "saccade detections: '" << path << "': cannot write it\n";
-      return kExitFailure;
-    }
+    if (!file) return fail("'" + path + "': cannot write it");
   }
-  DetectionWriter writer(path == "-" ? out : file, format);
   LcmLogStats stats;
-  if (!ConvertDetectionLog(log, args.Get("channel", DetectionsChannel("SACCADE")), &writer, &stats,
-                           &error)) {
-    err << "saccade detections: " << error << "\n";
-    return kExitFailure;
-  }
+  if (!convert(log, args.Get("channel", channel), path == "-" ? out : file, format, &stats, &error))
+    return fail(error);
   if (stats.written == 0 && stats.skipped > 0) {
     file.close();
-    if (path != "-") std::remove(path.c_str());  // no file of a header alone
-    err << "saccade detections: " << log << ": none of the " << stats.skipped
-        << " message(s) on the channel decode as a detections_t (a log of an older saccaded, "
-           "whose types had another fingerprint, or of another type)\n";
-    return kExitFailure;
+    if (path != "-") std::remove(path.c_str());
+    return fail(log + ": none of the " + std::to_string(stats.skipped) +
+                " message(s) on the channel decode as a " + type +
+                " (a log of an older saccaded, whose types had another fingerprint, or of "
+                "another type)");
   }
   if (stats.skipped > 0)
-    err << "saccade detections: " << stats.skipped << " malformed message(s) skipped\n";
+    err << "saccade " << command << ": " << stats.skipped << " malformed message(s) skipped\n";
   return kExitOk;
+}
+
+}  // namespace
+
+int RunFixations(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
+  return RunLogConversion(
+      argv, out, err, "fixations", "fixation_t",
+      "Converts the fixations in an lcm-logger log to CSV or JSON lines, as log-fixations "
+      "writes them.",
+      FixationChannel("SACCADE"),
+      [](const std::string& log, const std::string& channel, std::ostream& to, TableFormat format,
+         LcmLogStats* stats, std::string* error) {
+        FixationWriter writer(to, format);
+        return ConvertFixationLog(log, channel, &writer, stats, error);
+      });
+}
+
+int RunDetections(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
+  return RunLogConversion(
+      argv, out, err, "detections", "detections_t",
+      "Converts the detections in an lcm-logger log to CSV (one row per instance: where it is, "
+      "its confidence and track) or JSON lines (one line per frame).",
+      DetectionsChannel("SACCADE"),
+      [](const std::string& log, const std::string& channel, std::ostream& to, TableFormat format,
+         LcmLogStats* stats, std::string* error) {
+        DetectionWriter writer(to, format);
+        return ConvertDetectionLog(log, channel, &writer, stats, error);
+      });
 }
 
 }  // namespace saccade
