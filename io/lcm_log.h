@@ -8,6 +8,8 @@
 #include <initializer_list>
 #include <string>
 
+#include "io/text.h"  // CsvField, ShortestFloat: what the log writers print with
+
 namespace saccade {
 
 /// What a conversion did.
@@ -47,13 +49,5 @@ bool LcmFieldsFit(const unsigned char* data, std::size_t size, std::size_t* at,
 
 /// The big-endian int32 at `p`, as LCM writes integers.
 std::int32_t LcmInt32(const unsigned char* p);
-
-/// `text` as one CSV field: quoted (with its quotes doubled) when it holds a comma, a quote or
-/// a line break.
-std::string CsvField(const std::string& text);
-
-/// A float as its shortest text that reads back as the same float ("0.2", not 0.200000003):
-/// the precision it has, and no more.
-std::string ShortestFloat(float value);
 
 }  // namespace saccade

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -17,6 +18,23 @@
 namespace saccade {
 
 /// True when `s` ends with `suffix` ("frame.pcd", ".pcd").
+/// `text` as one CSV field: quoted (with its quotes doubled) when it holds a comma, a quote or
+/// a line break.
+inline std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+/// A float as its shortest text that reads back as the same float ("0.2", not 0.200000003):
+/// the precision it has, and no more.
+inline std::string ShortestFloat(float value) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  return std::string(text, end);
+}
+
 inline bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;

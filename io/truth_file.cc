@@ -6,22 +6,31 @@
 #include <limits>
 #include <sstream>
 #include "core/fail.h"
+#include "io/text.h"
 
 namespace saccade {
 
 std::string TruthCsvHeader() {
-  return "sequence,capture_utime,tx,ty,tz,qw,qx,qy,qz,cx,cy,cz,visible_fraction";
+  return "sequence,capture_utime_us,tx_m,ty_m,tz_m,qw,qx,qy,qz,cx_m,cy_m,cz_m,visible_fraction";
 }
+
+namespace {
+
+// The header recordings had before their columns named units (still read).
+const char* const kUnitlessHeader =
+    "sequence,capture_utime,tx,ty,tz,qw,qx,qy,qz,cx,cy,cz,visible_fraction";
+
+}  // namespace
 
 std::string TruthCsvRow(const TruthRow& row) {
   const Eigen::Vector3f t = row.truth.target_pose.translation();
   const Eigen::Quaternionf q(row.truth.target_pose.linear());
   const Eigen::Vector3f& c = row.truth.centroid_m;
   std::ostringstream out;
-  out.precision(9);
-  out << row.sequence << ',' << row.capture_utime << ',' << t.x() << ',' << t.y() << ',' << t.z()
-      << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << c.x() << ','
-      << c.y() << ',' << c.z() << ',' << row.truth.visible_fraction;
+  out << row.sequence << ',' << row.capture_utime;
+  for (float v : {t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z(), c.x(), c.y(), c.z(),
+                  row.truth.visible_fraction})
+    out << ',' << ShortestFloat(v);  // floats at the precision they have
   return out.str();
 }
 
@@ -31,7 +40,7 @@ bool ReadTruthFile(const std::string& path, std::vector<TruthRow>* rows, std::st
     return Fail(error, path + ": cannot open");
   }
   std::string line;
-  if (!std::getline(in, line) || line != TruthCsvHeader()) {
+  if (!std::getline(in, line) || (line != TruthCsvHeader() && line != kUnitlessHeader)) {
     return Fail(error, path + ": line 1: expected the header '" + TruthCsvHeader() + "'");
   }
   rows->clear();
