@@ -771,7 +771,7 @@ TEST(Saccaded, ANetworkThatRefusesToSendIsSurvivedCountedAndResumed) {
   err = ReadFile(box.Path("err"));
   EXPECT_TRUE(std::regex_search(err, std::regex("LCM did not send [1-9][0-9]* of the frames")))
       << err;  // the run line counts them
-  EXPECT_EQ(err.find("error"), std::string::npos) << err;
+  EXPECT_EQ(err.find("saccaded: error:"), std::string::npos) << err;  // no error line
 }
 
 // A folder whose frames change size from one to the next, with a corrupt file among them: the
@@ -806,7 +806,7 @@ TEST(Saccaded, FramesThatChangeSizeAreEachProcessedAndACorruptOneIsSkipped) {
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
   const std::string err = ReadFile(box.Path("err"));
-  EXPECT_EQ(err.find("error"), std::string::npos) << err;
+  EXPECT_EQ(err.find("saccaded: error:"), std::string::npos) << err;  // no error line
   // Named once (the first pass), counted every time.
   EXPECT_EQ(Count(err, "skipping an unusable frame: " + frames + "/4.pcd"), 1) << err;
   EXPECT_NE(err.find("unusable frame(s) of the source skipped"), std::string::npos) << err;
