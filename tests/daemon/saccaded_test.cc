@@ -770,7 +770,7 @@ TEST(Saccaded, ANetworkThatRefusesToSendIsSurvivedCountedAndResumed) {
   EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
   err = ReadFile(box.Path("err"));
   EXPECT_TRUE(std::regex_search(err, std::regex("LCM did not send [1-9][0-9]* of the frames")))
-      << err;  // the run line counts them
+      << err;                                                         // the run line counts them
   EXPECT_EQ(err.find("saccaded: error:"), std::string::npos) << err;  // no error line
 }
 
