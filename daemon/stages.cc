@@ -21,21 +21,28 @@ float TruthError(const Detection& d, const GroundTruth& truth) {
   return (d.centroid_m - truth.target_pose * in_model).norm();
 }
 
+// A target with less of itself in view than this is "hidden": not counted as trackable.
+constexpr float kVisibleFraction = 0.2f;
+
+// The best instance's distance to the truth, or -1 when none was found.
+float BestTruthError(const std::vector<Detection>& instances, const GroundTruth& truth) {
+  float best = -1;
+  for (const Detection& d : instances) {
+    const float e = TruthError(d, truth);
+    if (best < 0 || e < best) best = e;
+  }
+  return best;
+}
+
 // The human line of `service.summary: line`: mode, fovea, and the error to the truth when the
-// frame has one.
-std::string SummaryLine(const Fixation& next, const std::vector<Detection>& instances,
-                        const std::optional<GroundTruth>& truth) {
+// frame has one (`best`: BestTruthError).
+std::string SummaryLine(const Fixation& next, const std::optional<GroundTruth>& truth, float best) {
   char line[160];
   const Eigen::Vector3f& p = next.fovea_m;
   const int n = std::snprintf(line, sizeof line, "%-9s fovea (%+.2f, %+.2f, %+.2f) m  G %.2f m",
                               ModeName(next.mode), p.x(), p.y(), p.z(), next.growth_m);
   if (!truth || n <= 0 || n >= static_cast<int>(sizeof line)) return line;
-  float best = -1;
-  for (const Detection& d : instances) {
-    const float e = TruthError(d, *truth);
-    if (best < 0 || e < best) best = e;
-  }
-  if (truth->visible_fraction < 0.2f)
+  if (truth->visible_fraction < kVisibleFraction)
     std::snprintf(line + n, sizeof line - n, "  target hidden");
   else if (best < 0)
     std::snprintf(line + n, sizeof line - n, "  target not found");
@@ -264,16 +271,11 @@ void PublishStage::Process(Job* job) {
             (unsaid > 0 ? " (nor " + std::to_string(unsaid) + " frames before it, unlogged)"
                         : std::string()));
   const std::int64_t t1 = SteadyNowNs();
-  const std::string summary =
-      summary_line_ ? SummaryLine(job->next, frame.instances, job->frame.truth) : "";
+  // The truth's error once, for the summary line and the run's tally.
   const auto& truth = job->frame.truth;
-  const bool visible = truth && truth->visible_fraction >= 0.2f;
-  float best = -1;
-  if (visible)
-    for (const Detection& d : frame.instances) {
-      const float e = TruthError(d, *truth);
-      if (best < 0 || e < best) best = e;
-    }
+  const float best = truth ? BestTruthError(frame.instances, *truth) : -1;
+  const bool visible = truth && truth->visible_fraction >= kVisibleFraction;
+  const std::string summary = summary_line_ ? SummaryLine(job->next, truth, best) : "";
 
   std::lock_guard<std::mutex> lock(mutex_);
   recognize_.Add(frame.recognize_ms);
