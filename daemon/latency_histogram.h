@@ -13,6 +13,7 @@ namespace saccade {
 
 class LatencyHistogram {
  public:
+  std::int64_t count() const { return count_; }
   void Add(double ms) {
     const auto bin = static_cast<std::size_t>(std::max(0.0, ms) * 10);
     ++bins_[std::min(bin, bins_.size() - 1)];

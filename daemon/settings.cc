@@ -50,7 +50,7 @@ bool DaemonSettings::IsValid(std::string* error) const {
   return check("source", source) && check("recognition", recognition) && check("fovea", fovea) &&
          check("attention", attention) && check("tracking", tracking) &&
          check("saliency", saliency) && check("pipeline", pipeline) && check("lcm", bus) &&
-         check("robot_frame", bus.robot) && check("service", service);
+         check("robot_frame", bus.robot) && check("service", service) && check("preview", preview);
 }
 
 bool LoadDaemonSettings(const std::string& path, DaemonSettings* settings, std::string* error) {

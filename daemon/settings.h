@@ -5,6 +5,7 @@
 #include "attention/attention.h"
 #include "attention/tracks.h"
 #include "core/foveation.h"
+#include "core/preview.h"
 #include "core/recognition.h"
 #include "core/saliency.h"
 #include "io/bus.h"
@@ -92,6 +93,7 @@ struct DaemonSettings {
   PipelineOptions pipeline;
   BusOptions bus;
   ServiceOptions service;
+  PreviewOptions preview;  // PREFIX_PREVIEW, for viewers (saccade view)
 
   bool IsValid(std::string* error) const;
   bool operator==(const DaemonSettings& o) const { return SameFields(*this, o); }
@@ -110,6 +112,7 @@ struct DaemonSettings {
     a->Section("lcm", &bus);
     a->Section("robot_frame", &bus.robot);
     a->Section("service", &service);
+    a->Section("preview", &preview);
   }
 };
 

@@ -1,6 +1,7 @@
 #include "daemon/stages.h"
 
 #include "core/fail.h"
+#include "core/foveation.h"
 #include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"
 #include "io/frame_source.h"
@@ -79,6 +80,7 @@ std::shared_ptr<const RecognizeStage::Config> RecognizeStage::MakeConfig(const D
   c->tracking = s.tracking;
   c->saccade_fallback = s.attention.fallback == LostFallback::kSaccade;
   c->predict_max_horizon_s = s.attention.predict ? s.attention.predict_max_horizon_s : 0.0f;
+  c->preview = s.preview;
   c->models = std::move(models);
   return c;
 }
@@ -271,6 +273,7 @@ void PublishStage::Process(Job* job) {
             (unsaid > 0 ? " (nor " + std::to_string(unsaid) + " frames before it, unlogged)"
                         : std::string()));
   const std::int64_t t1 = SteadyNowNs();
+  const double preview_ms = SendPreview(*job);
   // The truth's error once, for the summary line and the run's tally.
   const auto& truth = job->frame.truth;
   const float best = truth ? BestTruthError(frame.instances, *truth) : -1;
@@ -282,6 +285,7 @@ void PublishStage::Process(Job* job) {
   track_.Add(job->track_ms);
   attend_.Add(job->attention_ms);
   publish_.Add(Ms(t0, t1));
+  if (preview_ms >= 0) preview_.Add(preview_ms);
   capture_to_publish_.Add(Ms(job->frame.arrival_steady_ns, t1));
   if (job->recognize) {
     run_recognize_.Add(frame.recognize_ms);
@@ -305,6 +309,46 @@ void PublishStage::Process(Job* job) {
   ++progress_;
 }
 
+double PublishStage::SendPreview(const Job& job) {
+  const PreviewOptions& options = job.config ? job.config->preview : PreviewOptions{};
+  const std::int64_t now = SteadyNowNs();
+  if (!options.enabled || !job.frame.cloud ||
+      (last_preview_ns_ != 0 &&
+       now - last_preview_ns_ < static_cast<std::int64_t>(1e9 / options.rate_hz)))
+    return -1;
+  last_preview_ns_ = now;
+  const Cloud& scene = *job.frame.cloud;
+  const FrameDetections& d = job.detections;
+  FoveaGeometry geometry;
+  if (const auto bounds = BoundingBox(scene)) {
+    FoveaOptions fovea = job.config->fovea;
+    fovea.growth_m = Eigen::Vector3f::Constant(d.growth_m);
+    geometry = ComputeFoveaGeometry(fovea, *bounds, d.fovea_m);
+  }
+  PreviewModels models;
+  for (const auto& m : job.config->models) models.push_back(m ? &m->description.cloud() : nullptr);
+  Preview preview =
+      MakePreview(scene, job.frame.intrinsics, geometry, d.instances, models, options);
+  preview.seq = d.seq;
+  preview.fovea_m = d.fovea_m;
+  preview.growth_m = d.growth_m;
+  // The truth as an instance's centroid would be at it: the target (the first model) at the
+  // true pose, the point TruthError measures from.
+  if (job.frame.truth && !job.config->models.empty() && job.config->models[0]) {
+    preview.has_truth = true;
+    preview.truth_centroid_m =
+        job.frame.truth->target_pose * job.config->models[0]->description.centroid();
+  }
+  std::string why;
+  std::int64_t unsaid = 0;
+  if (!bus_->PublishPreview(preview, job.frame.arrival_steady_ns, options, &why) &&
+      preview_failure_log_.Allow(&unsaid))
+    Log(LogLevel::kWarning,
+        "frame " + std::to_string(d.seq) + ": " + why +
+            (unsaid > 0 ? " (and " + std::to_string(unsaid) + " more, unlogged)" : std::string()));
+  return Ms(now, SteadyNowNs());
+}
+
 void PublishStage::TakePeriod(double period_s, bool whole_run, StatusReport* s,
                               std::string* summary) {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -318,6 +362,7 @@ void PublishStage::TakePeriod(double period_s, bool whole_run, StatusReport* s,
   s->stages = {recognize_.TakeReport("recognize"), track_.TakeReport("track"),
                attend_.TakeReport("attention"), publish_.TakeReport("publish"),
                capture_to_publish_.TakeReport("capture_to_publish")};
+  if (preview_.count() > 0) s->stages.push_back(preview_.TakeReport("preview"));
   *summary = last_summary_;
 }
 

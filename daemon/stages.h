@@ -39,6 +39,7 @@ struct StageConfig {
   TrackingOptions tracking;
   bool saccade_fallback = false;    // look for salient regions while searching
   float predict_max_horizon_s = 0;  // the predictor's lead (0: off)
+  PreviewOptions preview;           // PREFIX_PREVIEW (off by default)
   Models models;
 };
 
@@ -135,7 +136,8 @@ class PublishStage {
  public:
   /// `bus` outlives the stage; with `summary_line`, a human line per status period.
   PublishStage(Bus* bus, bool summary_line) : bus_(bus), summary_line_(summary_line) {}
-  /// Serial, in frame order: the job's detections leave with it.
+  /// Serial, in frame order: the job's detections leave with it, and, with the job's
+  /// config->preview on and a preview due (at most preview.rate_hz a second), its preview.
   void Process(Job* job);
 
   /// The figures of the period since the last call (stages, fps, fixation lag, mode, frames
@@ -154,10 +156,16 @@ class PublishStage {
  private:
   Bus* const bus_;
   const bool summary_line_;
+  /// The job's preview to the bus; the time it took (ms), or -1 when none was due.
+  double SendPreview(const Job& job);
+
   LogLimiter send_failure_log_{1};  // a network that refuses every send: one line a second
+  LogLimiter preview_failure_log_{1};
+  std::int64_t last_preview_ns_ = 0;  // Process's own (serial)
   mutable std::mutex mutex_;
   LatencyHistogram recognize_, track_, attend_, publish_, capture_to_publish_;  // this period
-  LatencyHistogram run_recognize_, run_track_, run_capture_to_publish_;         // the whole run
+  LatencyHistogram preview_;  // this period's previews (reported while previews are made)
+  LatencyHistogram run_recognize_, run_track_, run_capture_to_publish_;  // the whole run
   std::int64_t recognized_ = 0;  // frames recognition ran on (the others were tracked alone)
   std::int64_t processed_ = 0, last_processed_ = 0;
   std::int64_t unsent_ = 0;  // frames whose detections or fixation LCM did not send

@@ -3,6 +3,7 @@
 #include "core/fail.h"
 #include "io/frame_source.h"
 #include "io/log.h"
+#include "io/preview.h"
 #include "io/text.h"
 
 #include <poll.h>
@@ -29,6 +30,7 @@ std::string DetectionsChannel(const std::string& prefix) { return prefix + "_DET
 std::string FixationChannel(const std::string& prefix) { return prefix + "_FIXATION"; }
 std::string StatusChannel(const std::string& prefix) { return prefix + "_STATUS"; }
 std::string CommandChannel(const std::string& prefix) { return prefix + "_COMMAND"; }
+std::string PreviewChannel(const std::string& prefix) { return prefix + "_PREVIEW"; }
 
 bool CommandModelAllowed(const std::string& spec, const std::vector<std::string>& dirs,
                          std::string* why) {
@@ -164,6 +166,7 @@ class LcmBus : public Bus {
     detections_channel_ = DetectionsChannel(options_.channel_prefix);
     fixation_channel_ = FixationChannel(options_.channel_prefix);
     status_channel_ = StatusChannel(options_.channel_prefix);
+    preview_channel_ = PreviewChannel(options_.channel_prefix);
     X_RC_ =
         options_.robot.enabled ? options_.robot.RobotFromCamera() : Eigen::Isometry3f::Identity();
   }
@@ -279,6 +282,17 @@ class LcmBus : public Bus {
     return lcm_->publish(status_channel_, &m) == 0;
   }
 
+  bool PublishPreview(const Preview& preview, std::int64_t arrival_steady_ns,
+                      const PreviewOptions& options, std::string* error) override {
+    const std::vector<std::uint8_t> bytes =
+        EncodePreview(preview, ArrivalEpochUtime(arrival_steady_ns), options, error);
+    if (bytes.empty()) return false;
+    std::lock_guard<std::mutex> lock(publish_mutex_);
+    if (lcm_->publish(preview_channel_, bytes.data(), static_cast<unsigned>(bytes.size())) == 0)
+      return true;
+    return Fail(error, "preview: LCM did not send it");
+  }
+
   std::int64_t AcceptedCommands() const override { return accepted_; }
   std::int64_t RejectedCommands() const override { return rejected_; }
 
@@ -330,7 +344,7 @@ class LcmBus : public Bus {
   const BusOptions options_;
   std::unique_ptr<lcm::LCM> lcm_;
   std::string frame_name_;
-  std::string detections_channel_, fixation_channel_, status_channel_;
+  std::string detections_channel_, fixation_channel_, status_channel_, preview_channel_;
   Eigen::Isometry3f X_RC_;
   std::mutex publish_mutex_;
   CommandHandler on_command_;

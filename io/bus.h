@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/fixation.h"
+#include "core/preview.h"
 #include "core/schema.h"
 #include "core/types.h"
 
@@ -130,6 +131,11 @@ class Bus {
   /// frame's capture time). False when the transport refused to send.
   virtual bool Publish(const FrameDetections& frame, const Fixation& fixation) = 0;
   virtual bool PublishStatus(const StatusReport& status) = 0;
+  /// A frame's preview (PREFIX_PREVIEW, core/preview.h), stamped with the frame's arrival.
+  /// False, with one line in `error`, when it was not sent (it did not fit options.max_bytes,
+  /// or the transport refused).
+  virtual bool PublishPreview(const Preview& preview, std::int64_t arrival_steady_ns,
+                              const PreviewOptions& options, std::string* error) = 0;
   /// Passes each well-formed command from now on to `handler` (nothing, with commands off in
   /// BusOptions). Called once, before the first command is wanted.
   virtual void Subscribe(CommandHandler handler) = 0;
@@ -149,5 +155,6 @@ std::string DetectionsChannel(const std::string& prefix);
 std::string FixationChannel(const std::string& prefix);
 std::string StatusChannel(const std::string& prefix);
 std::string CommandChannel(const std::string& prefix);
+std::string PreviewChannel(const std::string& prefix);
 
 }  // namespace saccade

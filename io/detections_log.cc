@@ -84,6 +84,37 @@ bool DecodeDetections(const void* data, std::size_t size, LoggedDetections* logg
   return true;
 }
 
+void WriteInstancesJson(const std::vector<LoggedInstance>& instances, JsonWriter* j) {
+  j->BeginArray();
+  for (const LoggedInstance& i : instances) {
+    j->BeginObject().Key("model").Value(i.model).Key("model_name").Value(i.model_name);
+    j->Key("track_id").Value(i.track_id).Key("track_state").Value(i.track_state);
+    j->Key("centroid");
+    JsonFloats(*j, i.centroid);
+    j->Key("confidence").Value(i.confidence).Key("fitness").Value(i.fitness);
+    j->Key("coverage").Value(i.coverage).Key("colour_agreement").Value(i.colour_agreement);
+    j->Key("votes").Value(i.votes).Key("trans");
+    JsonFloats(*j, i.translation);
+    j->Key("quat");
+    JsonFloats(*j, i.quaternion);
+    j->EndObject();
+  }
+  j->EndArray();
+}
+
+void WriteDetectionsJson(const LoggedDetections& d, JsonWriter* j) {
+  j->BeginObject().Key("utime").Value(static_cast<long long>(d.utime));
+  j->Key("sensor_utime").Value(static_cast<long long>(d.sensor_utime));
+  j->Key("seq").Value(static_cast<long long>(d.seq));
+  j->Key("publish_utime").Value(static_cast<long long>(d.publish_utime));
+  j->Key("frame").Value(d.frame).Key("foveated").Value(d.foveated).Key("fovea");
+  JsonFloats(*j, d.fovea);
+  j->Key("growth").Value(d.growth_m).Key("recognize_ms").Value(d.recognize_ms);
+  j->Key("track_ms").Value(d.track_ms).Key("instances");
+  WriteInstancesJson(d.instances, j);
+  j->EndObject();
+}
+
 DetectionWriter::DetectionWriter(std::ostream& out, TableFormat format)
     : out_(out), format_(format) {
   if (format_ == TableFormat::kCsv)
@@ -110,28 +141,7 @@ void DetectionWriter::Write(const LoggedDetections& d) {
     }
   } else {
     JsonWriter j;
-    j.BeginObject().Key("utime").Value(static_cast<long long>(d.utime));
-    j.Key("sensor_utime").Value(static_cast<long long>(d.sensor_utime));
-    j.Key("seq").Value(static_cast<long long>(d.seq));
-    j.Key("publish_utime").Value(static_cast<long long>(d.publish_utime));
-    j.Key("frame").Value(d.frame).Key("foveated").Value(d.foveated).Key("fovea");
-    JsonFloats(j, d.fovea);
-    j.Key("growth").Value(d.growth_m).Key("recognize_ms").Value(d.recognize_ms);
-    j.Key("track_ms").Value(d.track_ms).Key("instances").BeginArray();
-    for (const LoggedInstance& i : d.instances) {
-      j.BeginObject().Key("model").Value(i.model).Key("model_name").Value(i.model_name);
-      j.Key("track_id").Value(i.track_id).Key("track_state").Value(i.track_state);
-      j.Key("centroid");
-      JsonFloats(j, i.centroid);
-      j.Key("confidence").Value(i.confidence).Key("fitness").Value(i.fitness);
-      j.Key("coverage").Value(i.coverage).Key("colour_agreement").Value(i.colour_agreement);
-      j.Key("votes").Value(i.votes).Key("trans");
-      JsonFloats(j, i.translation);
-      j.Key("quat");
-      JsonFloats(j, i.quaternion);
-      j.EndObject();
-    }
-    j.EndArray().EndObject();
+    WriteDetectionsJson(d, &j);
     out_ << j.str() << '\n';
   }
   out_.flush();

@@ -42,6 +42,13 @@ struct LoggedDetections {
 /// are not one.
 bool DecodeDetections(const void* data, std::size_t size, LoggedDetections* logged);
 
+class JsonWriter;
+/// `d` as one JSON object (the fields of detections_t, instances with their `centroid`,
+/// `confidence`, ...): `saccade detections --out X.jsonl`'s lines and the viewer's state.
+void WriteDetectionsJson(const LoggedDetections& d, JsonWriter* j);
+/// The instances alone, as a JSON array.
+void WriteInstancesJson(const std::vector<LoggedInstance>& instances, JsonWriter* j);
+
 /// Writes detections as CSV (one row per instance, the frame's fields repeated; a frame without
 /// instances writes no row) or JSON lines (one line per frame, instances nested).
 class DetectionWriter {

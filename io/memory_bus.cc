@@ -14,6 +14,13 @@ bool MemoryBus::PublishStatus(const StatusReport& status) {
   return true;
 }
 
+bool MemoryBus::PublishPreview(const Preview& preview, std::int64_t, const PreviewOptions&,
+                               std::string*) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  previews_.push_back(preview);
+  return true;
+}
+
 void MemoryBus::Subscribe(CommandHandler handler) {
   std::lock_guard<std::mutex> lock(mutex_);
   handler_ = std::move(handler);
@@ -46,6 +53,11 @@ bool MemoryBus::Send(const Command& command) {
 std::vector<MemoryBus::Published> MemoryBus::Frames() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return frames_;
+}
+
+std::vector<Preview> MemoryBus::Previews() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return previews_;
 }
 
 std::vector<StatusReport> MemoryBus::Statuses() const {

@@ -21,6 +21,8 @@ class MemoryBus : public Bus {
 
   bool Publish(const FrameDetections& frame, const Fixation& fixation) override;
   bool PublishStatus(const StatusReport& status) override;
+  bool PublishPreview(const Preview& preview, std::int64_t arrival_steady_ns,
+                      const PreviewOptions& options, std::string* error) override;
   void Subscribe(CommandHandler handler) override;
   std::int64_t AcceptedCommands() const override;
   std::int64_t RejectedCommands() const override;
@@ -33,12 +35,14 @@ class MemoryBus : public Bus {
   /// Copies of what has been published so far, in order.
   std::vector<Published> Frames() const;
   std::vector<StatusReport> Statuses() const;
+  std::vector<Preview> Previews() const;
 
  private:
   mutable std::mutex mutex_;
   CommandHandler handler_;                    // guarded by mutex_
   std::vector<Published> frames_;             // guarded by mutex_
   std::vector<StatusReport> statuses_;        // guarded by mutex_
+  std::vector<Preview> previews_;             // guarded by mutex_
   std::int64_t accepted_ = 0, rejected_ = 0;  // guarded by mutex_
 };
 

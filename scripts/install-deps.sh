@@ -13,7 +13,11 @@ packages=(
   libcli11-dev libsystemd-dev
   liblcm-java liblcm-lua lua5.2 default-jdk-headless python3 libjchart2d-java
   gnuplot-nox
+  libcpp-httplib-dev libjpeg-dev zlib1g-dev chromium
 )
+# saccade view's 3D view comes from npm (three.js); any npm will do (Debian's, or one that came
+# with another Node.js).
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do

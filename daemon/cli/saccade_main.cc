@@ -29,6 +29,7 @@ constexpr Command kCommands[] = {
      saccade::RunFixations},
     {"detections", "convert the detections in an lcm-logger log (CSV, JSON lines)",
      saccade::RunDetections},
+    {"view", "serve a live web page of what saccaded sees (camera, 3D, strips)", saccade::RunView},
     {"segment", "cut an object out of a capture as a model", saccade::RunSegment},
     {"eval", "recognition configurations over frames or cases with ground truth", saccade::RunEval},
     {"demo", "find a target in a synthetic Kinect scene", saccade::RunDemo},
