@@ -1,20 +1,27 @@
 #include "daemon/cli/commands.h"
 
 #include "core/eval/reference_pipeline.h"
+#include "core/fail.h"
+#include "core/features.h"
 #include "core/recognition.h"
 #include "core/sim/scenario.h"
 #include "daemon/args.h"
+#include "daemon/eval/overlays.h"
 #include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"
 #include "io/config.h"
 #include "io/json.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <iomanip>
+#include <iterator>
 #include <ostream>
 
 namespace saccade {
 namespace {
+
+namespace fs = std::filesystem;
 
 // Everything a subcommand needs before it can run: options, model and scene.
 struct Inputs {
@@ -168,9 +175,24 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
              "recognition settings over Saccade's defaults "
              "(configs/saccaded.yaml lists them)")
       .Value("threads", "N", "worker threads (default: one per core)")
-      .Switch("json", "print one JSON object instead of text");
+      .Switch("json", "print one JSON object instead of text")
+      .Value("render", "OUT.png",
+             "also draw the scene with each instance's model points, box and confidence");
   if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
+  // A path that cannot take the image is refused before the work, not after it.
+  if (args.Has("render")) {
+    const fs::path render = args.Get("render");
+    std::error_code ec;
+    const fs::path folder = render.has_parent_path() ? render.parent_path() : fs::path(".");
+    if (render.extension() != ".png")
+      return Usage(err, "recognize", "--render expects a .png path, got '" + render.string() + "'");
+    if (!fs::is_directory(folder, ec) || fs::is_directory(render, ec)) {
+      err << "saccade recognize: " << render.string() << ": cannot write there ("
+          << (fs::is_directory(render, ec) ? "a folder" : "no folder " + folder.string()) << ")\n";
+      return kExitFailure;
+    }
+  }
   SceneQuery query;
   query.foveated = !args.Has("plain");
   if (args.Has("fovea")) {
@@ -201,6 +223,20 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
   if (!error.empty()) {
     err << "saccade recognize: " << args.Get("scene") << ": " << error << "\n";
     return kExitFailure;
+  }
+  if (args.Has("render")) {
+    // The intrinsics an organized scene's points imply, else those the project assumes.
+    const CameraIntrinsics camera = EstimateIntrinsics(in.scene).value_or(CameraIntrinsics{});
+    std::vector<OverlayMark> marks;
+    for (std::size_t i = 0; i < result.instances.size(); ++i)
+      marks.push_back({result.instances[i].model_to_scene,
+                       kInstanceColours[i % std::size(kInstanceColours)],
+                       InstanceLabel(i, result.instances[i])});
+    if (!WriteOverlayPng(args.Get("render"), RenderOverlay(in.scene, camera, in.model, marks),
+                         &error)) {
+      err << "saccade recognize: " << OneLine(error) << "\n";
+      return kExitFailure;
+    }
   }
   if (args.Has("json"))
     out << ResultJson(result, *model, in.config.recognition) << "\n";

@@ -11,6 +11,8 @@
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/eval/evaluation.h"
+#include "daemon/eval/overlays.h"
+#include "daemon/eval/plots.h"
 #include "daemon/eval/report.h"
 #include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"
@@ -122,7 +124,8 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
             "Runs recognition configurations over frames with ground truth (--dataset and "
             "--model) or over labelled cross-capture cases (--cases); writes Table 7 style "
             "tables (CSV, Markdown), every trial's counts and stage times, TP/FP against the "
-            "distance threshold, the fovea-distance sweep, and their PNG plots (gnuplot).");
+            "distance threshold, the fovea-distance sweep, and their PNG plots (gnuplot); an "
+            "image of every missed or false case in overlays/.");
   args.Value("configs", "FILE.yaml",
              "the configurations to compare (required; "
              "configs/paper-configs.yaml)")
@@ -145,9 +148,23 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
       .Value("sweep", "NAME,...", "configurations to sweep the fovea's distance with")
       .Value("reference", "NAME", "the configuration speed-ups are against (default: 10)")
       .Value("repeat", "N", "time each trial N times and keep the median (default: 1)")
-      .Switch("no-plots", "write no PNG plots");
+      .Switch("no-plots", "write no PNG plots")
+      .Switch("no-overlays", "write no image of the missed and false cases (overlays/)")
+      .Value("replot", "DIR",
+             "only redraw the plots of an earlier run from its CSV files in DIR (runs nothing)");
   if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
+  if (args.Has("replot")) {
+    std::vector<std::string> pngs;
+    if (!WritePlots(args.Get("replot"), &pngs, &error)) {
+      err << "saccade eval: " << error << "\n";
+      return kExitFailure;
+    }
+    out << "written to " << args.Get("replot") << "/: plot.gp";
+    for (const std::string& png : pngs) out << " " << png;
+    out << "\n";
+    return kExitOk;
+  }
   const bool cases = args.Has("cases");
   if (cases && (args.Has("dataset") || args.Has("model")))
     return Usage(err, "eval", "--cases brings its own models and scenes: no --dataset or --model");
@@ -365,45 +382,21 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   }
   csv.close(), md.close(), tr.close(), th.close(), sw.close();
 
-  if (!args.Has("no-plots")) {
-    std::string names, swept;
-    for (const auto& c : configs) names += c.name + " ";
-    for (const auto& n : sweep_names) swept += n + " ";
-    // The script is left beside the data, to restyle the plots by hand.
-    std::ofstream gp(dir / "plot.gp");
-    gp << "# gnuplot script written by saccade eval; run: gnuplot plot.gp (in this folder)\n"
-       << "set datafile separator ','\nset terminal pngcairo size 900,600\nset grid\n"
-       << "set key outside right\nnames = '" << names << "'\nswept = '" << swept << "'\n"
-       << "set xlabel 'distance threshold (cm)'\n"
-       << "set output 'thresholds_tp.png'\nset ylabel 'true positives'\n"
-       << "plot for [n in names] 'thresholds.csv' using ($2*100):(strcol(1) eq n ? $3 : 1/0) "
-          "with linespoints title n\n"
-       << "set output 'thresholds_fp.png'\nset ylabel 'false positives'\n"
-       << "plot for [n in names] 'thresholds.csv' using ($2*100):(strcol(1) eq n ? $4 : 1/0) "
-          "with linespoints title n\n"
-       << "set output 'sweep.png'\nset xlabel 'fovea distance from the object (cm)'\n"
-       << "set ylabel 'true positives'\n"
-       << "if (strlen(swept) > 0) { plot for [n in swept] 'sweep.csv' using ($2*100):"
-          "(strcol(1) eq n ? $3 : 1/0) with linespoints title n } else { "
-          "set xrange [0:35]; set yrange [0:1]; set label 'no sweep (--sweep)' at graph 0.4,0.5;"
-          " plot 2 notitle }\n"
-       << "set output 'sweep_attention.png'\n"
-       << "set ylabel 'frames until found, attention loop (mean over scenes found)'\n"
-       << "if (strlen(swept) > 0) { plot for [n in swept] 'sweep.csv' using ($2*100):"
-          "(strcol(1) eq n && $6 > 0 ? $7 : 1/0) with linespoints title n } else { "
-          "plot 2 notitle }\n";
-    gp.close();
-    const std::string command = "cd '" + dir.string() + "' && gnuplot plot.gp 2> plot.log";
-    if (std::system(command.c_str()) != 0)
-      return fail("gnuplot failed (see " + (dir / "plot.log").string() +
-                  "); the CSV and Markdown files are written");
+  std::string written = "table.csv table.md trials.csv thresholds.csv sweep.csv";
+  if (!args.Has("no-overlays")) {
+    const int overlays = WriteCaseOverlays(configs, models, scenes, trials, dir, &error);
+    if (overlays < 0) return fail(error);
+    if (overlays > 0)
+      written += " overlays/ (" + std::to_string(overlays) + " missed or false case(s))";
   }
-  out << "written to " << dir.string()
-      << "/: table.csv table.md trials.csv thresholds.csv sweep.csv"
-      << (args.Has("no-plots")
-              ? ""
-              : " thresholds_tp.png thresholds_fp.png sweep.png sweep_attention.png")
-      << "\n";
+  if (!args.Has("no-plots")) {
+    std::vector<std::string> pngs;
+    if (!WritePlots(dir, &pngs, &error))
+      return fail(error + "; the CSV and Markdown files are written");
+    written += " plot.gp";
+    for (const std::string& png : pngs) written += " " + png;
+  }
+  out << "written to " << dir.string() << "/: " << written << "\n";
   return kExitOk;
 }
 

@@ -256,6 +256,68 @@ TEST(Cli, JsonOutputOnTheMilkScene) {
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " missing in " << r.out;
 }
 
+// recognize --render on the real milk scene: an 8-bit RGB PNG of the scene's size (640x480); a
+// path that cannot take it is one line, exit 1, and no file, before or after the work.
+TEST(Cli, RecognizeRendersTheSceneWithItsInstancesAsAPng) {
+  SACCADE_REQUIRE_DATA("pcl_test/milk_cartoon_all_small_clorox.pcd");
+  using saccade::testing::DataPath;
+  const std::string recognize = "recognize --model " + DataPath("pcl_test/milk_color.pcd") +
+                                " --scene " +
+                                DataPath("pcl_test/milk_cartoon_all_small_clorox.pcd") +
+                                " --fovea -0.056,-0.127,0.776 --render ";
+  const std::string png = ::testing::TempDir() + "milk_overlay.png";
+  std::remove(png.c_str());
+  const CliRun r = Saccade(recognize + png);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("1 instance(s)"), std::string::npos) << r.out;
+  // The PNG signature, then IHDR: width and height (big-endian), bit depth 8, colour type 2 (RGB).
+  std::ifstream f(png, std::ios::binary);
+  std::array<unsigned char, 26> head{};
+  ASSERT_TRUE(f.read(reinterpret_cast<char*>(head.data()), head.size())) << png;
+  EXPECT_EQ(std::string(head.begin() + 1, head.begin() + 4), "PNG");
+  const auto be32 = [&](int at) {
+    return (head[at] << 24) | (head[at + 1] << 16) | (head[at + 2] << 8) | head[at + 3];
+  };
+  EXPECT_EQ(be32(16), 640);
+  EXPECT_EQ(be32(20), 480);
+  EXPECT_EQ(head[24], 8);
+  EXPECT_EQ(head[25], 2);
+
+  // A path in a folder that cannot take a file: found only when writing, after recognition.
+  const CliRun proc = Saccade(recognize + "/proc/saccade_overlay.png");
+  EXPECT_EQ(proc.code, 1) << proc.out;
+  EXPECT_EQ(Lines(proc.out), 1) << proc.out;
+  EXPECT_NE(proc.out.find("saccade recognize: /proc/saccade_overlay.png: cannot write PNG"),
+            std::string::npos)
+      << proc.out;
+  EXPECT_FALSE(std::filesystem::exists("/proc/saccade_overlay.png"));
+}
+
+TEST(Cli, RecognizeRenderToAPathThatCannotBeAPngIsRefusedBeforeTheWork) {
+  // Refused before the clouds are read: these do not exist.
+  const std::string inputs =
+      "recognize --model /nonexistent/m.pcd --scene /nonexistent/s.pcd "
+      "--plain --render ";
+  CliRun r = Saccade(inputs + "/nonexistent-folder/out.png");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("/nonexistent-folder/out.png: cannot write there (no folder"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(std::filesystem::exists("/nonexistent-folder"));
+  const std::string folder = ::testing::TempDir() + "a_folder.png";
+  std::filesystem::create_directories(folder);
+  r = Saccade(inputs + folder);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("cannot write there (a folder)"), std::string::npos) << r.out;
+  r = Saccade(inputs + ::testing::TempDir() + "overlay.jpg");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_EQ(Lines(r.out), 1) << r.out;
+  EXPECT_NE(r.out.find("--render expects a .png path"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(::testing::TempDir() + "overlay.jpg"));
+}
+
 TEST(Cli, DemoFindsTheSyntheticTarget) {
   const CliRun r = Saccade("demo --seed 2");
   EXPECT_EQ(r.code, 0) << r.out;
@@ -529,6 +591,8 @@ TEST(Cli, EvalScoresTheRealMilkSceneAgainstItsPoseFile) {
     EXPECT_EQ(cells[4], "0") << line;  // FP
   }
   EXPECT_EQ(rows, 2);
+  // Nothing missed, nothing false: no overlay.
+  EXPECT_FALSE(std::filesystem::exists(dir + "/overlays")) << r.out;
 }
 
 TEST(Cli, EvalRejectsABadConfigurationsFileNamingTheEntry) {
@@ -651,6 +715,7 @@ TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
                                             "max_support_half_window_px: 12}, "
                                             "fovea: {inner_keypoint_radius_m: 0.014}}\n");
   const std::string out = ::testing::TempDir() + "cases_out";
+  std::filesystem::remove_all(out);
   const CliRun r = Saccade("eval --cases " + cases + " --data " + saccade::testing::DataPath("") +
                            " --configs " + configs + " --out " + out + " --no-plots");
   ASSERT_EQ(r.code, 0) << r.out;
@@ -682,6 +747,16 @@ TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
   EXPECT_EQ(names, (std::vector<std::string>{"loosened,tin-44-in-31", "loosened,pringles-31-in-24",
                                              "verified,tin-44-in-31", "verified,pringles-31-in-24",
                                              "fitted,tin-44-in-31", "fitted,pringles-31-in-24"}));
+
+  // An image of each case a configuration answered falsely (loosened: both), none of the others.
+  EXPECT_NE(r.out.find("overlays/ (2 missed or false case(s))"), std::string::npos) << r.out;
+  for (const char* name : {"tin-44-in-31-loosened.png", "pringles-31-in-24-loosened.png"}) {
+    std::ifstream png(out + "/overlays/" + name, std::ios::binary | std::ios::ate);
+    EXPECT_TRUE(png.good() && png.tellg() > 10000) << name;
+  }
+  for (const char* config : {"verified", "fitted"})
+    for (const char* name : {"tin-44-in-31", "pringles-31-in-24"})
+      EXPECT_FALSE(std::filesystem::exists(out + "/overlays/" + name + "-" + config + ".png"));
 }
 
 // Eight cases of the cross-capture benchmark (../shared/data/mosd_xcap), one of them infeasible

@@ -2,10 +2,13 @@
 // protocol (b)'s seeded offsets and (c)'s attention loop, and a bad cases file. cli_test.cc
 // runs `saccade eval` itself.
 #include "daemon/eval/evaluation.h"
+#include "daemon/eval/plots.h"
 
 #include "core/sim/scenario.h"
 
 #include <gtest/gtest.h>
+
+#include <sstream>
 
 namespace saccade::eval {
 namespace {
@@ -73,6 +76,61 @@ TEST(EvalCases, AMissingCasesFileIsOneErrorNamingIt) {
       LoadCaseScenes("/nonexistent/cases.yaml", "/nonexistent", {}, 1, &models, &scenes, &error));
   EXPECT_NE(error.find("/nonexistent/cases.yaml"), std::string::npos) << error;
   EXPECT_TRUE(scenes.empty());
+}
+
+// The plots' script: every plot titled, its axes labelled with units, its legend below the
+// axes, and never more than kMaxSeries series; 18 configurations make three pages, the best
+// (most true positives at 8 cm, then fewest false) on the first.
+TEST(EvalPlots, EighteenConfigurationsMakePagesOfAtMostEightTheBestFirst) {
+  std::vector<PlotSeries> configs;
+  for (int i = 0; i < 18; ++i) configs.push_back({"c" + std::to_string(i), 0, i});
+  configs[17].tp = 12, configs[17].fp = 0;  // the best, last in the file
+  configs[5].tp = 12, configs[5].fp = 1;
+  configs[9].tp = 3;
+  const PlotScript script = MakePlotScript(configs, {"c17", "c5"}, 12);
+  EXPECT_EQ(script.pngs, (std::vector<std::string>{"thresholds_tp.png", "thresholds_tp-2.png",
+                                                   "thresholds_tp-3.png", "thresholds_fp.png",
+                                                   "thresholds_fp-2.png", "thresholds_fp-3.png",
+                                                   "sweep.png", "sweep_attention.png"}));
+  EXPECT_NE(script.text.find("set key below"), std::string::npos);
+  EXPECT_NE(script.text.find("set xlabel 'distance threshold (cm)'"), std::string::npos);
+  EXPECT_NE(script.text.find("set xlabel 'fovea distance from the object, along x (cm)'"),
+            std::string::npos);
+  // Each plot: its output, a title and a y label set before it, and at most 8 series.
+  std::istringstream lines(script.text);
+  std::vector<std::vector<std::string>> plots;  // the series titles of each plot
+  bool titled = false, labelled = false;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("set title \"", 0) == 0) titled = line.size() > 20;
+    if (line.rfind("set ylabel \"", 0) == 0) labelled = line.find('(') != std::string::npos;
+    if (line.rfind("plot ", 0) == 0) {
+      EXPECT_TRUE(titled && labelled) << line;
+      titled = labelled = false;
+      plots.emplace_back();
+    }
+    if (line.rfind("plot ", 0) == 0 || line.rfind("     '", 0) == 0) {
+      const auto at = line.find(" title \"");
+      ASSERT_NE(at, std::string::npos) << line;
+      plots.back().push_back(line.substr(at + 8, line.find('"', at + 8) - at - 8));
+    }
+  }
+  ASSERT_EQ(plots.size(), script.pngs.size());
+  for (const auto& series : plots) EXPECT_LE(series.size(), kMaxSeries);
+  EXPECT_EQ(plots[0], (std::vector<std::string>{"c17", "c5", "c9", "c0", "c1", "c2", "c3", "c4"}));
+  EXPECT_EQ(plots[2], (std::vector<std::string>{"c15", "c16"}));
+  EXPECT_EQ(plots[3], plots[0]);  // the false positives' pages hold the same configurations
+  EXPECT_EQ(plots[6], (std::vector<std::string>{"c17", "c5"}));
+  // A paged plot says which of them it holds and where the rest are.
+  EXPECT_NE(script.text.find("configurations 9-16 of 18, ranked by true positives at 8 cm; the "
+                             "rest in thresholds_tp.png thresholds_tp-3.png"),
+            std::string::npos);
+}
+
+// Without a sweep there is no sweep plot (not an empty one).
+TEST(EvalPlots, NoSweepNoSweepPlots) {
+  const PlotScript script = MakePlotScript({{"saccade", 5, 1}}, {}, 12);
+  EXPECT_EQ(script.pngs, (std::vector<std::string>{"thresholds_tp.png", "thresholds_fp.png"}));
+  EXPECT_EQ(script.text.find("sweep"), std::string::npos);
 }
 
 }  // namespace
