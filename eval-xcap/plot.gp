@@ -1,21 +1,32 @@
 # gnuplot script written by saccade eval; run: gnuplot plot.gp (in this folder)
 set datafile separator ','
-set terminal pngcairo size 900,600
+set terminal pngcairo size 1000,680 noenhanced font ',11'
 set grid
-set key outside right
-names = 'saccade saccade-strict saccade-no-colour hough-colour-gate 10 saccade-ungated '
-swept = ''
+set key below horizontal  # under the axes: the legend never hides a curve
+set style data linespoints
+set offsets 0, 0, graph 0.05, 0
+
+# True and false positives as the distance threshold grows (the paper's Figs. 8, 9).
 set xlabel 'distance threshold (cm)'
+set xrange [0:10.5]
+set arrow 1 from 8, graph 0 to 8, graph 1 nohead dashtype 2 linecolor 'gray40'
+set yrange [0:238]
 set output 'thresholds_tp.png'
-set ylabel 'true positives'
-plot for [n in names] 'thresholds.csv' using ($2*100):(strcol(1) eq n ? $3 : 1/0) with linespoints title n
+set title "True positives against the distance threshold (238 scenes; dashed: the paper's 8 cm rule)"
+set ylabel "true positives (scenes)"
+plot 'thresholds.csv' using ($2*100):(strcol(1) eq "saccade-ungated" ? $3 : 1/0) title "saccade-ungated", \
+     'thresholds.csv' using ($2*100):(strcol(1) eq "saccade" ? $3 : 1/0) title "saccade", \
+     'thresholds.csv' using ($2*100):(strcol(1) eq "saccade-no-colour" ? $3 : 1/0) title "saccade-no-colour", \
+     'thresholds.csv' using ($2*100):(strcol(1) eq "saccade-strict" ? $3 : 1/0) title "saccade-strict", \
+     'thresholds.csv' using ($2*100):(strcol(1) eq "hough-colour-gate" ? $3 : 1/0) title "hough-colour-gate", \
+     'thresholds.csv' using ($2*100):(strcol(1) eq "10" ? $3 : 1/0) title "10"
+set yrange [0:*]
 set output 'thresholds_fp.png'
-set ylabel 'false positives'
-plot for [n in names] 'thresholds.csv' using ($2*100):(strcol(1) eq n ? $4 : 1/0) with linespoints title n
-set output 'sweep.png'
-set xlabel 'fovea distance from the object (cm)'
-set ylabel 'true positives'
-if (strlen(swept) > 0) { plot for [n in swept] 'sweep.csv' using ($2*100):(strcol(1) eq n ? $3 : 1/0) with linespoints title n } else { set xrange [0:35]; set yrange [0:1]; set label 'no sweep (--sweep)' at graph 0.4,0.5; plot 2 notitle }
-set output 'sweep_attention.png'
-set ylabel 'frames until found, attention loop (mean over scenes found)'
-if (strlen(swept) > 0) { plot for [n in swept] 'sweep.csv' using ($2*100):(strcol(1) eq n && $6 > 0 ? $7 : 1/0) with linespoints title n } else { plot 2 notitle }
+set title "False positives against the distance threshold (238 scenes; dashed: the paper's 8 cm rule)"
+set ylabel "false positives (detections)"
+plot 'thresholds.csv' using ($2*100):(strcol(1) eq "saccade-ungated" ? $4 : 1/0) title "saccade-ungated", \
+     'thresholds.csv' using ($2*100):(strcol(1) eq "saccade" ? $4 : 1/0) title "saccade", \
+     'thresholds.csv' using ($2*100):(strcol(1) eq "saccade-no-colour" ? $4 : 1/0) title "saccade-no-colour", \
+     'thresholds.csv' using ($2*100):(strcol(1) eq "saccade-strict" ? $4 : 1/0) title "saccade-strict", \
+     'thresholds.csv' using ($2*100):(strcol(1) eq "hough-colour-gate" ? $4 : 1/0) title "hough-colour-gate", \
+     'thresholds.csv' using ($2*100):(strcol(1) eq "10" ? $4 : 1/0) title "10"
