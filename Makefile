@@ -30,10 +30,11 @@ package: build
 install: build
 	@cmake --install $(BUILD_DIR)
 
-# saccaded on the synthetic Kinect: a target that moves, hides and comes back, over LCM.
+# saccaded on the synthetic Kinect: a target that moves, hides and comes back, over LCM, with
+# saccade view beside it (the address is printed; DEMO_PORT=N for another port than 8080).
 demo: build
 	@./scripts/multicast-route.sh
-	@$(BUILD_DIR)/daemon/saccaded --config configs/demo.yaml
+	@./scripts/demo.sh $(BUILD_DIR)
 
 # One line per test as it ends; the output of a failing one; the count at the end.
 test: build

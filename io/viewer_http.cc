@@ -8,6 +8,7 @@
 
 #include <httplib.h>
 #include <poll.h>
+#include <sys/socket.h>
 #include <unistd.h>
 #include <lcm/lcm-cpp.hpp>
 
@@ -57,6 +58,12 @@ class HttpViewer : public ViewerServer {
           StatusChannel(options_.channel_prefix), PreviewChannel(options_.channel_prefix)})
       lcm_->subscribeFunction(Literal(channel), &HttpViewer::OnLcm, this);
     Routes();
+    // httplib's default also sets SO_REUSEPORT, with which a second viewer would share the
+    // port silently: a restart may reuse it at once, a second server may not.
+    server_.set_socket_options([](int sock) {
+      const int yes = 1;
+      setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
     port_ = options_.port == 0
                 ? server_.bind_to_any_port(options_.bind)
                 : (server_.bind_to_port(options_.bind, options_.port) ? options_.port : -1);
