@@ -14,12 +14,15 @@
 namespace saccade {
 namespace {
 
-// The page's files: installed beside the binaries, else the build tree's (made by the `web`
-// target).
+// The page's files: installed beside the binary (PREFIX/bin/saccade finds
+// PREFIX/share/saccade/web, whatever the prefix), else the build tree's (the `web` target).
 std::string DefaultWebDir() {
   std::error_code ec;
-  for (const char* dir : {SACCADE_INSTALL_WEB_DIR, SACCADE_BUILD_WEB_DIR})
-    if (std::filesystem::is_regular_file(std::filesystem::path(dir) / "index.html", ec)) return dir;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const auto installed = exe.parent_path().parent_path() / "share" / "saccade" / "web";
+    if (std::filesystem::is_regular_file(installed / "index.html", ec)) return installed.string();
+  }
   return SACCADE_BUILD_WEB_DIR;
 }
 

@@ -43,6 +43,13 @@ runuser -u saccade -- /usr/bin/saccaded --config /etc/saccade/saccaded.yaml \
   { cat "$work/run.err"; fail "the installed saccaded failed"; }
 grep -q "run: 12 frames processed" "$work/run.err" || { cat "$work/run.err"; fail "not 12 frames"; }
 
+# The installed viewer finds its installed page (it refuses to start without one) and listens.
+[ -f /usr/share/saccade/web/vendor/three.module.js ] || fail "the viewer's three.js is not installed"
+timeout -s INT 3 /usr/bin/saccade view --port 0 --lcm-url 'udpm://239.255.76.67:7699?ttl=0' \
+  >"$work/view.out" 2>"$work/view.err" || true
+grep -q "^saccade view: open http://127.0.0.1:" "$work/view.out" ||
+  { cat "$work/view.err"; fail "the installed saccade view did not start"; }
+
 # Another project finds the message types.
 mkdir -p "$work/client"
 cat >"$work/client/CMakeLists.txt" <<'CMAKE'
