@@ -10,6 +10,7 @@
 
 #include <saccade/status_t.hpp>
 
+#include <algorithm>
 #include <deque>
 #include <map>
 #include <mutex>
@@ -131,8 +132,11 @@ bool ViewerState::OnMessage(const std::string& channel, const void* data, std::s
     if (!m) return ++s.rejected, false;
     s.heard_s = now_s;
     s.Push(&s.fps, now_s, m->fps);
-    s.Push(&s.dropped, now_s,
-           s.last_dropped < 0 ? 0.0 : static_cast<double>(m->frames_dropped - s.last_dropped));
+    // Drops since the last status, in double: the counts are the sender's (any int64), and a
+    // restarted daemon starts again from 0.
+    const double dropped =
+        static_cast<double>(m->frames_dropped) - static_cast<double>(s.last_dropped);
+    s.Push(&s.dropped, now_s, s.last_dropped < 0 ? 0.0 : std::max(0.0, dropped));
     s.last_dropped = m->frames_dropped;
     for (const saccade::stage_latency_t& st : m->stages) {
       if (st.samples <= 0) continue;
