@@ -110,7 +110,7 @@ Preview MakePreview(const Cloud& scene, const CameraIntrinsics& intrinsics,
     }
   }
 
-  for (std::size_t i = 0; i < instances.size() && i < 255; ++i) {
+  for (std::size_t i = 0; i < instances.size() && i < kPreviewMaxInstances; ++i) {
     const Detection& d = instances[i];
     p.instance_centroids_m.push_back(d.centroid_m);
     const Cloud* model = d.model >= 0 && static_cast<std::size_t>(d.model) < models.size()
@@ -120,6 +120,7 @@ Preview MakePreview(const Cloud& scene, const CameraIntrinsics& intrinsics,
     const Eigen::Affine3f X_SM(d.model_to_scene);
     const std::size_t every = Stride(model->size(), options.model_points);
     for (std::size_t k = 0; k < model->size(); k += every) {
+      if (p.levels.size() + p.instance_of_point.size() >= kPreviewMaxPoints) break;
       if (!FinitePoint((*model)[k])) continue;
       AppendMm(X_SM * (*model)[k].getVector3fMap(), &p.instance_points_mm);
       p.instance_of_point.push_back(static_cast<std::uint8_t>(i));

@@ -69,6 +69,11 @@ struct Preview {
   Eigen::Vector3f truth_centroid_m = Eigen::Vector3f::Zero();
 };
 
+/// A preview's points at most (the cloud's and the instances' together): what a viewer decodes.
+constexpr int kPreviewMaxPoints = 20000;
+/// A preview's instances at most (their points are tagged 128 + index in a byte).
+constexpr int kPreviewMaxInstances = 127;
+
 /// The models' points an instance is drawn with, model frame.
 using PreviewModels = std::vector<const Cloud*>;
 

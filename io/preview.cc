@@ -14,7 +14,6 @@
 namespace saccade {
 namespace {
 
-constexpr int kMaxPoints = 20000;
 constexpr std::uint8_t kInstanceTag = 128;
 
 // libjpeg reports errors through a callback that must not return: jump back to the encoder.
@@ -118,7 +117,7 @@ bool PreviewFits(const unsigned char* d, std::size_t size, std::string* why) {
   at += static_cast<std::size_t>(image_size);
   if (!LcmFieldsFit(d, size, &at, {4, 4})) return Reject(why, "truncated before the points");
   const std::int32_t num_points = LcmInt32(d + at - 8), points_size = LcmInt32(d + at - 4);
-  if (num_points < 0 || num_points > kMaxPoints)
+  if (num_points < 0 || num_points > kPreviewMaxPoints)
     return Reject(why, "num_points " + std::to_string(num_points) + " is not in [0, 20000]");
   if (points_size < 0 || static_cast<std::size_t>(points_size) > size - at)
     return Reject(why, "points_size " + std::to_string(points_size) + " is beyond the message");
@@ -160,8 +159,8 @@ std::vector<std::uint8_t> EncodePreview(const Preview& preview, std::int64_t uti
   m.cy = static_cast<float>(preview.intrinsics.cy);
   m.colour = preview.colour;
   m.image_format = "jpeg";
-  m.num_instances =
-      static_cast<std::int16_t>(std::min<std::size_t>(preview.instance_centroids_m.size(), 255));
+  m.num_instances = static_cast<std::int16_t>(
+      std::min<std::size_t>(preview.instance_centroids_m.size(), kPreviewMaxInstances));
   for (int i = 0; i < m.num_instances; ++i) {
     const Eigen::Vector3f& c = preview.instance_centroids_m[static_cast<std::size_t>(i)];
     m.instance_centroid.push_back({c.x(), c.y(), c.z()});
@@ -181,10 +180,11 @@ std::vector<std::uint8_t> EncodePreview(const Preview& preview, std::int64_t uti
   for (int c = 0; c < 3; ++c) m.truth_centroid[c] = preview.truth_centroid_m[c];
 
   // Quality first, then the cloud's points, until the message fits.
-  int quality = options.jpeg_quality;
+  int quality = options.jpeg_quality, encoded_quality = -1;
   std::size_t every = 1;
   for (int attempt = 0; attempt < 24; ++attempt) {
-    if (!preview.rgb.empty()) {
+    if (!preview.rgb.empty() && quality != encoded_quality) {  // the image again only if changed
+      encoded_quality = quality;
       m.image = Jpeg(preview.rgb, preview.intrinsics.width, preview.intrinsics.height, quality);
       if (m.image.empty()) {
         if (error) *error = "preview: the image could not be encoded as JPEG";
@@ -195,7 +195,11 @@ std::vector<std::uint8_t> EncodePreview(const Preview& preview, std::int64_t uti
     m.points = Deflate(PointsBlock(preview, every, &m.num_points));
     m.points_size = static_cast<std::int32_t>(m.points.size());
     const int size = m.getEncodedSize();
-    if (size <= options.max_bytes) {
+    if (m.num_points > kPreviewMaxPoints && every < preview.levels.size()) {
+      every *= 2;  // more points than a viewer takes: thin the cloud first
+      continue;
+    }
+    if (size <= options.max_bytes && m.num_points <= kPreviewMaxPoints) {
       std::vector<std::uint8_t> out(static_cast<std::size_t>(size));
       if (m.encode(out.data(), 0, size) == size) return out;
       break;

@@ -12,6 +12,7 @@
 #include <unistd.h>
 #include <lcm/lcm-cpp.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <thread>
 
@@ -82,18 +83,23 @@ class HttpViewer : public ViewerServer {
   }
 
   bool Run(std::string* error) override {
-    if (stopped_) return true;
-    if (!server_.listen_after_bind() && !stopped_)
-      return Fail(error, "saccade view: the web server stopped unexpectedly");
-    return true;
+    in_run_ = true;
+    const bool ok = stopped_ || server_.listen_after_bind() || stopped_;
+    in_run_ = false;
+    return ok ? true : Fail(error, "saccade view: the web server stopped unexpectedly");
   }
 
   void Stop() override {
     if (stopped_.exchange(true)) return;
-    server_.stop();
     if (wake_[1] >= 0) {
       const char byte = 0;
       [[maybe_unused]] const auto n = write(wake_[1], &byte, 1);
+    }
+    // httplib's stop() does nothing until the server is running: a Stop that comes while Run
+    // is starting to listen repeats it until Run has returned.
+    while (in_run_) {
+      server_.stop();
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
 
@@ -150,6 +156,7 @@ class HttpViewer : public ViewerServer {
   int port_ = -1;
   int wake_[2] = {-1, -1};
   std::atomic<bool> stopped_{false};
+  std::atomic<bool> in_run_{false};  // Run is listening, or about to
   std::thread listener_;
 };
 

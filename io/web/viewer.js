@@ -44,13 +44,13 @@ function boxCorners(preview, level) {  // camera frame
 const BOX_EDGES = [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7],
                    [0, 4], [1, 5], [2, 6], [3, 7]];
 
-// The camera view's pixel of a camera-frame point: pixel centres of the preview image sit at
-// (u + 0.5) * scale on the canvas.
+// The camera view's pixel of a camera-frame point: the preview image is stretched over the
+// canvas, its pixel centres at (u + 0.5) * scale on each axis. No image (a loose cloud): none.
 function project(preview, p) {
-  if (p[2] <= 0.05) return null;
-  const s = camera.width / preview.width;
-  return [(preview.fx * p[0] / p[2] + preview.cx + 0.5) * s,
-          (preview.fy * p[1] / p[2] + preview.cy + 0.5) * s];
+  if (p[2] <= 0.05 || !(preview.width > 0) || !(preview.height > 0)) return null;
+  const sx = camera.width / preview.width, sy = camera.height / preview.height;
+  return [(preview.fx * p[0] / p[2] + preview.cx + 0.5) * sx,
+          (preview.fy * p[1] / p[2] + preview.cy + 0.5) * sy];
 }
 
 function fmt(v, digits = 2) { return v === null || v === undefined ? '-' : Number(v).toFixed(digits); }
@@ -330,8 +330,8 @@ async function loadPreview(preview) {
       fetch('/api/preview.jpg?seq=' + preview.seq).then(r => r.ok ? r.blob() : null),
       fetch('/api/points.bin?seq=' + preview.seq).then(r => r.ok ? r.arrayBuffer() : null),
     ]);
-    if (img && bin) {
-      image = await createImageBitmap(img);
+    if (bin) {  // the image may be missing (a frame that is not an image): points alone
+      image = img ? await createImageBitmap(img) : null;
       const n = preview.num_points, view = new DataView(bin);
       const xyz = new Int16Array(3 * n);
       for (let i = 0; i < 3 * n; ++i) xyz[i] = view.getInt16(2 * i, true);

@@ -131,7 +131,8 @@ TEST(View, ShowsTheLiveDemoInARealBrowserWithTheDetectionWhereTheTruthProjects) 
   Viewer view(box, "view", box.url);
   // The demo at the sensor's rate, with its preview on (configs/demo.yaml).
   const Exit daemon =
-      Wait(Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--lcm-url", box.url},
+      Wait(Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                  "synthetic:" + kSourceDir + "/configs/demo-scenario.yaml", "--lcm-url", box.url},
                  box.Path("saccaded.out"), box.Path("saccaded.err")));
   ASSERT_EQ(daemon.code, 0) << ReadFile(box.Path("saccaded.err"));
   logger.Finish();
@@ -176,18 +177,17 @@ TEST(View, ShowsTheLiveDemoInARealBrowserWithTheDetectionWhereTheTruthProjects) 
   EXPECT_FALSE(view.Get("/api/preview.jpg?seq=" + std::to_string(preview_seq)).empty());
   EXPECT_EQ(view.Get("/api/points.bin?seq=" + std::to_string(preview_seq)).size(),
             static_cast<std::size_t>(Number(state, "num_points", p)) * 7);
-  const double width = Number(state, "width", p), fx = Number(state, "fx", p),
-               fy = Number(state, "fy", p), cx = Number(state, "cx", p),
-               cy = Number(state, "cy", p);
+  const double width = Number(state, "width", p), height = Number(state, "height", p),
+               fx = Number(state, "fx", p), fy = Number(state, "fy", p),
+               cx = Number(state, "cx", p), cy = Number(state, "cy", p);
   const std::vector<double> truth = Numbers(state, "truth", p);
   ASSERT_EQ(truth.size(), 3u) << state;
   ASSERT_EQ(Numbers(state, "centroid", state.find("\"instances\":[", p)).size(), 3u)
       << "the last preview shows an instance: " << state.substr(p);
   // Where the truth lands on the page: the camera view is the page's top-left 640 x 480, the
-  // preview's pixel centres at (u + 0.5) * scale.
-  const double scale = 640.0 / width;
-  const double truth_x = (fx * truth[0] / truth[2] + cx + 0.5) * scale;
-  const double truth_y = (fy * truth[1] / truth[2] + cy + 0.5) * scale;
+  // preview stretched over it, its pixel centres at (u + 0.5) * scale on each axis.
+  const double truth_x = (fx * truth[0] / truth[2] + cx + 0.5) * 640.0 / width;
+  const double truth_y = (fy * truth[1] / truth[2] + cy + 0.5) * 480.0 / height;
 
   const std::string png = box.Path("page.png");
   Chromium(box, view.url(), png);

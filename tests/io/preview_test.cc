@@ -47,6 +47,7 @@ Preview MakeOne(const Scene& s, const PreviewOptions& options, FoveaGeometry* ge
   const Cloud* model = &s.model;
   Preview p = MakePreview(s.cloud, s.intrinsics, *geometry, {d}, {model}, options);
   p.seq = 42;
+  p.fovea_m = Eigen::Vector3f(0, 0, 1.5f);
   p.has_truth = true;
   p.truth_centroid_m = Eigen::Vector3f(0.14f, 0.1f, 1.44f);
   return p;
@@ -66,14 +67,18 @@ TEST(Preview, RoundTripsUnderSixtyKilobytesWithEveryPartAViewerDraws) {
   EXPECT_LE(p.instance_of_point.size(), static_cast<std::size_t>(options.model_points));
   EXPECT_GT(p.instance_of_point.size(), static_cast<std::size_t>(options.model_points / 2));
   // Each level's points are where foveation puts them.
+  int checked = 0;
   for (std::size_t i = 0; i < p.levels.size(); i += 97) {
     const Eigen::Vector3f q(p.points_mm[3 * i] / 1000.0f, p.points_mm[3 * i + 1] / 1000.0f,
                             p.points_mm[3 * i + 2] / 1000.0f);
     const int level = LevelOf(geometry, q);
-    if (level >= 0) {  // (rounding to millimetres may cross a face)
+    if (level >= 0) {
+      ++checked;  // (rounding to millimetres may cross a face)
       EXPECT_EQ(level, p.levels[i]) << i;
     }
   }
+
+  EXPECT_GT(checked, 10);
 
   std::string error;
   const std::vector<std::uint8_t> bytes = EncodePreview(p, 123456, options, &error);
@@ -103,7 +108,7 @@ TEST(Preview, RoundTripsUnderSixtyKilobytesWithEveryPartAViewerDraws) {
   EXPECT_EQ(d->level_min.size(), geometry.levels.size());
   EXPECT_TRUE(d->has_truth);
   EXPECT_FLOAT_EQ(d->truth_centroid[2], 1.44f);
-  EXPECT_DOUBLE_EQ(d->fovea[2], 0.0);  // MakeOne left the fovea unset
+  EXPECT_DOUBLE_EQ(d->fovea[2], 1.5f);
 }
 
 TEST(Preview, ASmallBudgetLowersTheQualityThenThinsThePoints) {
