@@ -326,10 +326,28 @@ class StreamSource : public OpenNI2Source {
     return true;
   }
 
+  // libOpenNI2 (2.2) can deadlock destroying a recorder while frames arrive: a stream's frame
+  // thread, once past the recorder's started check, takes the stream's recorder lock and then
+  // the recorder's stream lock (Recorder::record); destroy() takes them the other way round
+  // (detachAllStreams). Seen as a hang of the .oni recording test on a loaded machine, every
+  // thread waiting in libOpenNI2. After stop() no frame passes that check, so destroy() waits
+  // until every stream being listened to has called back kCallbacksAfterStop more times. A
+  // stream's frames come one at a time and wake its callback thread once recorded; the third
+  // call after stop() was woken by a frame that came after stop(), so the one that may have
+  // been past the check has left the locks. A stalled stream holds it up kDrainAtMost.
   void StopRecording() override {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!recorder_.isValid()) return;
     recorder_.stop();
+    std::unique_lock<std::mutex> calls(callback_mutex_);
+    const std::uint64_t depth_then = depth_listener_.calls, colour_then = colour_listener_.calls;
+    callback_.wait_for(calls, kDrainAtMost, [&] {
+      const auto drained = [](const Listener& l, std::uint64_t then) {
+        return !l.listening || l.calls >= then + kCallbacksAfterStop;
+      };
+      return drained(depth_listener_, depth_then) && drained(colour_listener_, colour_then);
+    });
+    calls.unlock();
     recorder_.destroy();
   }
 
@@ -428,8 +446,8 @@ class StreamSource : public OpenNI2Source {
 
   bool StartStream(std::string* error) {
     ResetPairing();
-    depth_.addNewFrameListener(&depth_listener_);
-    if (colour_.isValid()) colour_.addNewFrameListener(&colour_listener_);
+    Listen(&depth_, &depth_listener_);
+    if (colour_.isValid()) Listen(&colour_, &colour_listener_);
     if (depth_.start() != openni::STATUS_OK ||
         (colour_.isValid() && colour_.start() != openni::STATUS_OK)) {
       RemoveListeners();
@@ -458,6 +476,8 @@ class StreamSource : public OpenNI2Source {
   void RemoveListeners() {
     if (depth_.isValid()) depth_.removeNewFrameListener(&depth_listener_);
     if (colour_.isValid()) colour_.removeNewFrameListener(&colour_listener_);
+    std::lock_guard<std::mutex> calls(callback_mutex_);
+    depth_listener_.listening = colour_listener_.listening = false;
   }
 
   // Where delivered frames go, one at a time and in order.
@@ -514,22 +534,45 @@ class StreamSource : public OpenNI2Source {
 
   // One listener a stream: libOpenNI2 keeps one callback handle a listener, and hands it a
   // temporary VideoStream, so the listener itself says which stream it listens to.
+  // Counts its calls for StopRecording.
   class Listener : public openni::VideoStream::NewFrameListener {
    public:
     Listener(StreamSource* owner, bool depth) : owner_(owner), depth_(depth) {}
-    void onNewFrame(openni::VideoStream&) override { owner_->OnFrame(depth_); }
+    void onNewFrame(openni::VideoStream&) override {
+      owner_->OnFrame(depth_);
+      {
+        std::lock_guard<std::mutex> lock(owner_->callback_mutex_);
+        ++calls;
+      }
+      owner_->callback_.notify_all();
+    }
+    std::uint64_t calls = 0;  // guarded by the owner's callback_mutex_
+    bool listening = false;   // likewise
 
    private:
     StreamSource* owner_;
     bool depth_;
   };
 
+  void Listen(openni::VideoStream* stream, Listener* listener) {
+    {
+      std::lock_guard<std::mutex> calls(callback_mutex_);
+      listener->listening = true;
+    }
+    stream->addNewFrameListener(listener);
+  }
+
+  static constexpr std::uint64_t kCallbacksAfterStop = 3;
+  static constexpr std::chrono::milliseconds kDrainAtMost{1500};
+
   const ColourOptions colour_options_;
   Listener depth_listener_{this, true}, colour_listener_{this, false};
   openni::Device device_;
   openni::VideoStream depth_, colour_;
   openni::Recorder recorder_;
-  std::mutex mutex_;  // the recorder
+  std::mutex mutex_;           // the recorder
+  std::mutex callback_mutex_;  // the listeners' counts, for StopRecording
+  std::condition_variable callback_;
   std::atomic<std::uint64_t> skipped_{0};
   int last_index_ = 0;                // OpenNI2's own frame index of the last depth frame read
   bool stop_at_wrap_ = false;         // a playback that does not loop: set before streaming
