@@ -2,6 +2,7 @@
 
 #include "core/check.h"
 #include "core/types.h"
+#include "core/verification.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -199,22 +200,20 @@ OrientedBox FitOrientedBox(const std::vector<Eigen::Vector3f>& points) {
   return box;
 }
 
-RgbCanvas SceneImage(const Cloud& scene, const CameraIntrinsics& camera) {
-  bool coloured = false;
+RgbCanvas SceneImage(const Cloud& scene, const CameraIntrinsics& camera, int step) {
+  const bool coloured = HasColour(scene);
   float near_m = std::numeric_limits<float>::max(), far_m = 0;
-  for (const PointT& p : scene.points) {
-    coloured = coloured || (p.rgba & 0xFFFFFFu) != 0;
+  for (const PointT& p : scene.points)
     if (FinitePoint(p) && p.z > 0) near_m = std::min(near_m, p.z), far_m = std::max(far_m, p.z);
-  }
   const auto shade = [&](const PointT& p) {
     if (coloured) return Rgb{p.r, p.g, p.b};
     return FinitePoint(p) && p.z > 0 ? DepthShade(p.z, near_m, far_m) : Rgb{};
   };
   if (scene.height > 1) {
-    RgbCanvas canvas(static_cast<int>(scene.width), static_cast<int>(scene.height));
-    for (std::uint32_t v = 0; v < scene.height; ++v)
-      for (std::uint32_t u = 0; u < scene.width; ++u)
-        canvas.Set(static_cast<int>(u), static_cast<int>(v), shade(scene.at(u, v)));
+    const int s = std::max(1, step);
+    RgbCanvas canvas(static_cast<int>(scene.width) / s, static_cast<int>(scene.height) / s);
+    for (int v = 0; v < canvas.height; ++v)
+      for (int u = 0; u < canvas.width; ++u) canvas.Set(u, v, shade(scene.at(u * s, v * s)));
     return canvas;
   }
   RgbCanvas canvas(camera.width, camera.height);

@@ -64,9 +64,11 @@ OrientedBox FitOrientedBox(const std::vector<Eigen::Vector3f>& points);
 /// The scene as its camera saw it. An organized cloud gives one pixel per point (its colour,
 /// held by Kinect clouds even where depth is missing); an unorganized cloud is projected with
 /// `camera` (the nearest point wins a pixel) onto a black image of camera.width x height. A
-/// cloud with no colour at all is shaded by depth instead (near is bright).
+/// cloud without colour (HasColour) is shaded by depth instead (near is bright). `step` > 1 keeps
+/// every step-th pixel of an organized cloud each way (pixel (u, v) is the cloud's
+/// (u step, v step)); an unorganized cloud is always drawn whole.
 RgbCanvas SceneImage(const pcl::PointCloud<pcl::PointXYZRGBA>& scene,
-                     const CameraIntrinsics& camera);
+                     const CameraIntrinsics& camera, int step = 1);
 
 /// A filled square of side 2 * radius_px + 1 centred on pixel (u, v).
 void DrawDot(int u, int v, int radius_px, Rgb colour, RgbCanvas* canvas);

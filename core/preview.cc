@@ -2,6 +2,8 @@
 
 #include "core/fail.h"
 #include "core/foveation.h"
+#include "core/overlay.h"
+#include "core/verification.h"
 
 #include <algorithm>
 #include <cmath>
@@ -64,28 +66,8 @@ Preview MakePreview(const Cloud& scene, const CameraIntrinsics& intrinsics,
     p.intrinsics.fy = intrinsics.fy / step;
     p.intrinsics.cx = intrinsics.cx / step;
     p.intrinsics.cy = intrinsics.cy / step;
-    p.rgb.resize(static_cast<std::size_t>(w) * h * 3);
-    float z_near = INFINITY, z_far = 0;
-    for (int v = 0; v < h; ++v)
-      for (int u = 0; u < w; ++u) {
-        const PointT& q = scene.at(u * step, v * step);
-        p.colour = p.colour || q.r != 0 || q.g != 0 || q.b != 0;
-        if (FinitePoint(q)) z_near = std::min(z_near, q.z), z_far = std::max(z_far, q.z);
-      }
-    const float span = std::max(z_far - z_near, 1e-3f);
-    for (int v = 0; v < h; ++v)
-      for (int u = 0; u < w; ++u) {
-        const PointT& q = scene.at(u * step, v * step);
-        std::uint8_t* o = &p.rgb[(static_cast<std::size_t>(v) * w + u) * 3];
-        if (p.colour) {
-          o[0] = q.r, o[1] = q.g, o[2] = q.b;
-        } else {
-          // Near light, far dark; no return black.
-          const auto g = static_cast<std::uint8_t>(
-              FinitePoint(q) ? 40 + std::lround(215.0f * (z_far - q.z) / span) : 0);
-          o[0] = o[1] = o[2] = g;
-        }
-      }
+    p.colour = HasColour(scene);
+    p.rgb = SceneImage(scene, intrinsics, step).data;
   }
 
   // The foveated cloud's points, each with its level, thinned evenly over the image.

@@ -129,14 +129,10 @@ class HttpViewer : public ViewerServer {
       return [this, image](const httplib::Request& request, httplib::Response& r) {
         const std::vector<std::uint8_t> bytes =
             image ? state_.PreviewImage(SeqOf(request)) : state_.PreviewPoints(SeqOf(request));
-        if (bytes.empty() && !image) {
-          r.status = 404;
-          r.set_content("no preview of that frame", "text/plain");
-          return;
-        }
         if (bytes.empty()) {
           r.status = 404;
-          r.set_content("no preview yet (is preview.enabled on in saccaded's config?)",
+          r.set_content(image ? "no preview yet (is preview.enabled on in saccaded's config?)"
+                              : "no preview of that frame",
                         "text/plain");
           return;
         }

@@ -79,6 +79,46 @@ TEST(Tracker, FindsTheStillTargetAndFollowsItFrameByFrame) {
   EXPECT_TRUE(last.fixation.fovea_m.isApprox(last.frame.instances[0].centroid_m, 1e-4f));
 }
 
+// The preview (on in the demo's config) is made from the frame it describes, at most rate_hz
+// a second: at one in 1000 s only the first frame's is due, whatever the machine's speed.
+TEST(Tracker, APreviewDescribesItsFrameAndComesAtMostAtItsRate) {
+  DaemonSettings settings = DemoSettings();
+  ASSERT_TRUE(settings.preview.enabled);
+  settings.preview.rate_hz = 1e-3;
+  Rig rig(settings);
+  ASSERT_TRUE(rig.tracker);
+  while (rig.Step()) {
+  }
+  const auto published = rig.bus->Frames();
+  const auto previews = rig.bus->Previews();
+  ASSERT_EQ(published.size(), 6u);
+  ASSERT_EQ(previews.size(), 1u);
+  const Preview& p = previews[0];
+  const FrameDetections& first = published[0].frame;
+  EXPECT_EQ(p.seq, first.seq);
+  EXPECT_EQ(p.fovea_m, first.fovea_m);
+  EXPECT_EQ(p.growth_m, first.growth_m);
+  ASSERT_EQ(p.instance_centroids_m.size(), first.instances.size());
+  for (std::size_t i = 0; i < first.instances.size(); ++i)
+    EXPECT_EQ(p.instance_centroids_m[i], first.instances[i].centroid_m);
+  // The image is the frame decimated by image_step; the synthetic frames carry their truth.
+  const int step = settings.preview.image_step;
+  EXPECT_EQ(p.intrinsics.width, 640 / step);
+  EXPECT_EQ(p.intrinsics.height, 480 / step);
+  EXPECT_EQ(p.rgb.size(), static_cast<std::size_t>(p.intrinsics.width) * p.intrinsics.height * 3);
+  EXPECT_TRUE(p.has_truth);
+  EXPECT_FALSE(p.points_mm.empty());
+  EXPECT_EQ(p.points_mm.size(), 3 * p.levels.size());
+
+  settings.preview.enabled = false;  // off (saccaded's default): none at all
+  Rig off(settings);
+  ASSERT_TRUE(off.tracker);
+  while (off.Step()) {
+  }
+  EXPECT_EQ(off.bus->Frames().size(), 6u);
+  EXPECT_TRUE(off.bus->Previews().empty());
+}
+
 TEST(Tracker, SetFoveaMovesTheNextFixationAndResetReturnsToTheInitialFovea) {
   const DaemonSettings settings = DemoSettings();
   Rig rig(settings);
