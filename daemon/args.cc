@@ -1,5 +1,7 @@
 #include "daemon/args.h"
 
+#include "daemon/exit_codes.h"
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -13,9 +15,6 @@
 
 namespace saccade {
 namespace {
-
-constexpr int kExitOk = 0;
-constexpr int kExitUsage = 2;
 
 // Levenshtein distance, for "did you mean".
 std::size_t EditDistance(const std::string& a, const std::string& b) {

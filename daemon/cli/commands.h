@@ -2,15 +2,13 @@
 // 0 success, 1 the input could not be processed (file, cloud, model), 2 bad usage.
 #pragma once
 
+#include "daemon/exit_codes.h"
+
 #include <iosfwd>
 #include <string>
 #include <vector>
 
 namespace saccade {
-
-constexpr int kExitOk = 0;
-constexpr int kExitFailure = 1;
-constexpr int kExitUsage = 2;
 
 /// Prints "saccade COMMAND: MESSAGE" and returns kExitUsage.
 int Usage(std::ostream& err, const std::string& command, const std::string& message);
