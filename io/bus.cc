@@ -2,6 +2,7 @@
 
 #include "core/fail.h"
 #include "io/frame_source.h"
+#include "io/lcm_open.h"
 #include "io/log.h"
 #include "io/preview.h"
 #include "io/text.h"
@@ -376,12 +377,8 @@ bool BusOptions::IsValid(std::string* error) const {
 }
 
 std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error) {
-  auto lcm = std::make_unique<lcm::LCM>(options.url);
-  if (!lcm->good()) {
-    Fail(error, "cannot open LCM at '" + options.url +
-                    "' (a malformed URL, or no multicast route: see docs/LCM.md)");
-    return nullptr;
-  }
+  std::unique_ptr<lcm::LCM> lcm = OpenLcm(options.url, error);
+  if (!lcm) return nullptr;
   auto bus = std::make_unique<LcmBus>(options, std::move(lcm));
   if (options.commands && !bus->MakeWakePipe(error)) return nullptr;
   return bus;

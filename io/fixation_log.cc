@@ -14,6 +14,7 @@
 #include <cstring>
 #include <fstream>
 #include <iomanip>
+#include <memory>
 #include <ostream>
 #include <vector>
 
@@ -121,17 +122,12 @@ struct Listener {
 
 }  // namespace
 
-bool ListenFixations(const std::string& url, const std::string& channel, FixationWriter* writer,
-                     std::int64_t max_records, const std::atomic<bool>& stop, LcmLogStats* stats,
-                     std::string* error) {
-  lcm::LCM lcm(url);
-  if (!lcm.good()) {
-    return Fail(error, "cannot open LCM at '" + url + "'");
-  }
+void ListenFixations(lcm::LCM* lcm, const std::string& channel, FixationWriter* writer,
+                     std::int64_t max_records, const std::atomic<bool>& stop, LcmLogStats* stats) {
   Listener listener{writer, stats};
-  lcm.subscribe(channel, &Listener::On, &listener);
-  while (!stop && (max_records <= 0 || stats->written < max_records)) lcm.handleTimeout(200);
-  return true;
+  lcm::Subscription* subscription = lcm->subscribe(channel, &Listener::On, &listener);
+  while (!stop && (max_records <= 0 || stats->written < max_records)) lcm->handleTimeout(200);
+  lcm->unsubscribe(subscription);
 }
 
 }  // namespace saccade

@@ -11,6 +11,10 @@
 #include <iosfwd>
 #include <string>
 
+namespace lcm {
+class LCM;
+}
+
 namespace saccade {
 
 /// One fixation_t as logged: the fixation (back in core's shape) with its wire stamp and the
@@ -44,11 +48,9 @@ class FixationWriter {
 bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
                         FixationWriter* writer, LcmLogStats* stats, std::string* error);
 
-/// Subscribes to `channel` at `url` and writes each fixation until `stop` is set (checked at
-/// least every 200 ms) or `max_records` are written (0: no limit). False with `error` when LCM
-/// cannot be opened.
-bool ListenFixations(const std::string& url, const std::string& channel, FixationWriter* writer,
-                     std::int64_t max_records, const std::atomic<bool>& stop, LcmLogStats* stats,
-                     std::string* error);
+/// Subscribes to `channel` on `lcm` (OpenLcm, io/lcm_open.h) and writes each fixation until
+/// `stop` is set (checked at least every 200 ms) or `max_records` are written (0: no limit).
+void ListenFixations(lcm::LCM* lcm, const std::string& channel, FixationWriter* writer,
+                     std::int64_t max_records, const std::atomic<bool>& stop, LcmLogStats* stats);
 
 }  // namespace saccade

@@ -5,6 +5,7 @@
 #include "core/fail.h"
 #include "io/bus.h"
 #include "io/frame_source.h"
+#include "io/lcm_open.h"
 
 #include <httplib.h>
 #include <poll.h>
@@ -166,9 +167,9 @@ std::unique_ptr<ViewerServer> ViewerServer::Open(const ViewerOptions& options, s
                     "' (no index.html; --web-dir, or build the 'web' target)");
     return nullptr;
   }
-  auto lcm = std::make_unique<lcm::LCM>(options.lcm_url);
-  if (!lcm->good()) {
-    Fail(error, "saccade view: cannot open LCM at '" + options.lcm_url + "'");
+  std::unique_ptr<lcm::LCM> lcm = OpenLcm(options.lcm_url, error);
+  if (!lcm) {
+    Fail(error, "saccade view: " + *error);
     return nullptr;
   }
   auto viewer = std::make_unique<HttpViewer>(options, std::move(lcm));

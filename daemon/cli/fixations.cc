@@ -7,6 +7,9 @@
 #include "io/bus.h"
 #include "io/detections_log.h"
 #include "io/fixation_log.h"
+#include "io/lcm_open.h"
+
+#include <lcm/lcm-cpp.hpp>
 
 #include <atomic>
 #include <cstdio>
@@ -72,20 +75,18 @@ int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std
     if (!n) return Usage(err, "log-fixations", "--count must be a positive integer");
     count = *n;
   }
+  // LCM first: a network that cannot be joined leaves no output file behind.
+  std::unique_ptr<lcm::LCM> lcm = OpenLcm(args.Get("lcm-url", BusOptions{}.url), &error);
   Output output;
-  if (!OpenOutput(args, out, &output, &error)) {
+  if (!lcm || !OpenOutput(args, out, &output, &error)) {
     err << "saccade log-fixations: " << error << "\n";
     return kExitFailure;
   }
   std::atomic<bool> stop{false};
   SignalWaiter signals([&](int) { stop = true; });  // SIGINT/SIGTERM end the log cleanly
   LcmLogStats stats;
-  if (!ListenFixations(args.Get("lcm-url", BusOptions{}.url),
-                       args.Get("channel", FixationChannel("SACCADE")), output.writer.get(), count,
-                       stop, &stats, &error)) {
-    err << "saccade log-fixations: " << error << "\n";
-    return kExitFailure;
-  }
+  ListenFixations(lcm.get(), args.Get("channel", FixationChannel("SACCADE")), output.writer.get(),
+                  count, stop, &stats);
   err << "saccade log-fixations: " << stats.written << " fixation(s) written";
   if (stats.skipped > 0) err << ", " << stats.skipped << " malformed message(s) skipped";
   err << "\n";

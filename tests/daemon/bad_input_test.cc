@@ -271,6 +271,14 @@ std::vector<BadInput> Corpus() {
       "$D/l.lcmlog");
   add("SaccadedUnknownFlag", {}, "saccaded --bogus", 2, "--bogus");
   add("SaccadedConfigMissing", {}, "saccaded --config $D/nothing.yaml", 2, "$D/nothing.yaml");
+  // liblcm says why it refuses a URL on a line of its own; it belongs in Saccade's one line.
+  add("SaccadedLcmUrlUnknownProvider", {},
+      "saccaded --model synthetic:target --source synthetic:static --lcm-url bogus://x", 1,
+      "cannot open LCM at 'bogus://x': LCM provider \"bogus\" not found");
+  add("ViewLcmUrlNotMulticast", {}, "view --port 0 --lcm-url udpm://300.1.1.1:7667", 1,
+      "Bad multicast IP address \"300.1.1.1\"");
+  add("LogFixationsLcmUrlUnknownProvider", {},
+      "log-fixations --out $D/f.csv --count 1 --lcm-url nope://", 1, "LCM provider \"nope\"");
 
   // Source specs.
   auto source = [&](const std::string& name, std::vector<File> files, const std::string& spec,
