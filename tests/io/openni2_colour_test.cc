@@ -97,24 +97,27 @@ class OpenNI2ColourTest : public ::testing::Test {
     return *points ? static_cast<double>(agree) / *points : 0.0;
   }
 
-  // Reads 6 frames of a live source: each coloured one must agree with the pattern; a frame
-  // whose colour frame came too late (a loaded machine) is uncoloured and counted as unpaired.
+  // Reads frames of a live source until 4 are coloured (at most 60): each coloured one must
+  // agree with the pattern. A frame whose colour frame came too late (a loaded machine: 3 of 6
+  // under ASan beside other work) is uncoloured and must be counted as unpaired.
   static void ExpectRegistered(FrameSource* source) {
     std::string error;
     Frame f;
     std::uint64_t uncoloured = 0;
-    for (int n = 0; n < 6; ++n) {
+    int coloured = 0, read = 0;
+    for (; read < 60 && coloured < 4; ++read) {
       ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
       if (std::none_of(f.cloud->begin(), f.cloud->end(),
                        [](const PointT& p) { return p.r || p.g || p.b; })) {
         ++uncoloured;
         continue;
       }
+      ++coloured;
       int points = 0;
-      EXPECT_GT(Agreement(f, true, &points), 0.995) << "frame " << n;
+      EXPECT_GT(Agreement(f, true, &points), 0.995) << "frame " << read;
       EXPECT_GT(points, 5000);
     }
-    EXPECT_LE(uncoloured, 2u);
+    EXPECT_EQ(coloured, 4) << uncoloured << " of " << read << " frames came without colour";
     EXPECT_GE(source->Stats().unpaired, uncoloured);
   }
 
