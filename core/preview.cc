@@ -35,7 +35,7 @@ std::size_t Stride(std::size_t n, int limit) {
 }  // namespace
 
 bool PreviewOptions::IsValid(std::string* error) const {
-  if (!InRange(rate_hz, 1e-3, 30)) return Fail(error, "rate_hz must be in (0, 30]");
+  if (!InRange(rate_hz, 1e-3, 30)) return Fail(error, "rate_hz must be in [0.001, 30]");
   if (image_step < 1 || image_step > 8) return Fail(error, "image_step must be in [1, 8]");
   if (jpeg_quality < 10 || jpeg_quality > 95)
     return Fail(error, "jpeg_quality must be in [10, 95]");

@@ -3,7 +3,7 @@
 #include "core/fail.h"
 #include "core/fixation.h"
 #include "daemon/args.h"
-#include "daemon/cli/commands.h"
+#include "daemon/exit_codes.h"
 #include "daemon/notify.h"
 #include "daemon/settings.h"
 #include "daemon/signals.h"

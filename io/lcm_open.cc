@@ -6,6 +6,7 @@
 #include <unistd.h>
 #include <lcm/lcm-cpp.hpp>
 
+#include <cerrno>
 #include <cstdio>
 
 namespace saccade {
@@ -35,7 +36,7 @@ std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url, std::string* error) {
   // stderr points at a pipe while liblcm opens (non-blocking: past the pipe's 64 KB, what
   // liblcm writes is dropped rather than blocking it).
   int pipe_fds[2] = {-1, -1};
-  const int saved = dup(STDERR_FILENO);
+  const int saved = fcntl(STDERR_FILENO, F_DUPFD_CLOEXEC, 0);
   const bool capture = saved >= 0 && pipe2(pipe_fds, O_NONBLOCK | O_CLOEXEC) == 0;
   if (capture) {
     std::fflush(stderr);
@@ -49,8 +50,8 @@ std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url, std::string* error) {
     close(pipe_fds[1]);
     char buffer[1024];
     ssize_t n;
-    while ((n = read(pipe_fds[0], buffer, sizeof buffer)) > 0)
-      said.append(buffer, static_cast<std::size_t>(n));
+    while ((n = read(pipe_fds[0], buffer, sizeof buffer)) > 0 || (n < 0 && errno == EINTR))
+      if (n > 0) said.append(buffer, static_cast<std::size_t>(n));
     close(pipe_fds[0]);
   }
   if (saved >= 0) close(saved);

@@ -334,19 +334,32 @@ class StreamSource : public OpenNI2Source {
   // until every stream being listened to has called back kCallbacksAfterStop more times. A
   // stream's frames come one at a time and wake its callback thread once recorded; the third
   // call after stop() was woken by a frame that came after stop(), so the one that may have
-  // been past the check has left the locks. A stalled stream holds it up kDrainAtMost.
+  // been past the check has left the locks. While callbacks come it waits on (a frame may be
+  // held up behind the recorder's thread writing the file); once no stream has called back for
+  // kDrainAtMost they have stalled, nothing is in flight, and it goes on (and after
+  // kDrainLongest whatever comes: one stream may flow while the other has stalled).
+  // Not covered: stop() right after start(), before libOpenNI2's recorder thread has taken the
+  // start (it sets started then, after this stop()).
   void StopRecording() override {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!recorder_.isValid()) return;
     recorder_.stop();
     std::unique_lock<std::mutex> calls(callback_mutex_);
     const std::uint64_t depth_then = depth_listener_.calls, colour_then = colour_listener_.calls;
-    callback_.wait_for(calls, kDrainAtMost, [&] {
-      const auto drained = [](const Listener& l, std::uint64_t then) {
+    const auto drained = [&] {
+      const auto done = [](const Listener& l, std::uint64_t then) {
         return !l.listening || l.calls >= then + kCallbacksAfterStop;
       };
-      return drained(depth_listener_, depth_then) && drained(colour_listener_, colour_then);
-    });
+      return done(depth_listener_, depth_then) && done(colour_listener_, colour_then);
+    };
+    const Clock::time_point give_up = Clock::now() + kDrainLongest;  // one stream may stall
+    while (!drained() && Clock::now() < give_up) {
+      const std::uint64_t seen = depth_listener_.calls + colour_listener_.calls;
+      if (!callback_.wait_for(calls, kDrainAtMost, [&] {
+            return drained() || depth_listener_.calls + colour_listener_.calls != seen;
+          }))
+        break;  // stalled
+    }
     calls.unlock();
     recorder_.destroy();
   }
@@ -563,7 +576,8 @@ class StreamSource : public OpenNI2Source {
   }
 
   static constexpr std::uint64_t kCallbacksAfterStop = 3;
-  static constexpr std::chrono::milliseconds kDrainAtMost{1500};
+  static constexpr std::chrono::milliseconds kDrainAtMost{1500};  // with no callback at all
+  static constexpr std::chrono::seconds kDrainLongest{5};
 
   const ColourOptions colour_options_;
   Listener depth_listener_{this, true}, colour_listener_{this, false};
@@ -767,6 +781,7 @@ class PlaybackSource : public StreamSource {
 
   ~PlaybackSource() override {
     Stop();
+    StopRecording();  // while the listeners still count callbacks
     bool running = false;
     RemoveListeners();
     for (openni::VideoStream* stream : {&colour_, &depth_}) {

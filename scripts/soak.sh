@@ -25,7 +25,7 @@ build_dir=$(cd "$build_dir" && pwd)
 cd "$root"  # the sequence's path and ../shared/data are the project root's
 out=${SOAK_OUT:-$root/soak-out}
 rate=${SOAK_RATE:-30}
-if grep -q "fsanitize=address" "$build_dir/CMakeCache.txt" 2>/dev/null; then
+if grep -q "^SACCADE_SANITIZE:BOOL=ON$" "$build_dir/CMakeCache.txt" 2>/dev/null; then
   under="under ASan"
 else
   under="not sanitized"
@@ -50,8 +50,9 @@ export OMP_WAIT_POLICY=passive
   >"$out/saccaded.log" 2>&1 &
 pid=$!
 trap 'kill -TERM $pid 2>/dev/null || true' EXIT
-echo "saccade soak: saccaded ($under, pid $pid) on $sequence looping at ${rate} Hz" \
-     "(0: as fast as it takes them) for $minutes min;" \
+pace="at ${rate} Hz"
+[ "$rate" = 0 ] && pace="as fast as it takes the frames"
+echo "saccade soak: saccaded ($under, pid $pid) on $sequence looping $pace for $minutes min;" \
      "memory every $sample_s s in $out/memory.csv" >&2
 echo "seconds,rss_kb" > "$out/memory.csv"
 start=$(date +%s)

@@ -1,5 +1,5 @@
-// The `saccade` user command's subcommands. Each returns the process exit code:
-// 0 success, 1 the input could not be processed (file, cloud, model), 2 bad usage.
+// The `saccade` user command's subcommands. Each returns the process exit code
+// (daemon/exit_codes.h).
 #pragma once
 
 #include "daemon/exit_codes.h"

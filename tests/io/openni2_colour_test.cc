@@ -97,7 +97,7 @@ class OpenNI2ColourTest : public ::testing::Test {
     return *points ? static_cast<double>(agree) / *points : 0.0;
   }
 
-  // Reads frames of a live source until 4 are coloured (at most 60): each coloured one must
+  // Reads frames of a live source until 4 are coloured (at most 24): each coloured one must
   // agree with the pattern. A frame whose colour frame came too late (a loaded machine: 3 of 6
   // under ASan beside other work) is uncoloured and must be counted as unpaired.
   static void ExpectRegistered(FrameSource* source) {
@@ -105,7 +105,7 @@ class OpenNI2ColourTest : public ::testing::Test {
     Frame f;
     std::uint64_t uncoloured = 0;
     int coloured = 0, read = 0;
-    for (; read < 60 && coloured < 4; ++read) {
+    for (; read < 24 && coloured < 4; ++read) {
       ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
       if (std::none_of(f.cloud->begin(), f.cloud->end(),
                        [](const PointT& p) { return p.r || p.g || p.b; })) {
