@@ -70,10 +70,15 @@ void Doubles(JsonWriter* j, const std::array<double, N>& v) {
 struct ViewerState::Impl {
   explicit Impl(const ViewerOptions& o) : options(o) {}
 
+  // Keeps history_s of samples and at most kMaxSamples: saccaded sends a status at most 20
+  // times a second, and a flood of messages must not grow the page without bound.
   void Push(std::deque<Sample>* strip, double t_s, double value) {
     strip->push_back({t_s, value});
-    while (!strip->empty() && strip->front().t_s < t_s - options.history_s) strip->pop_front();
+    while (strip->size() > kMaxSamples ||
+           (!strip->empty() && strip->front().t_s < t_s - options.history_s))
+      strip->pop_front();
   }
+  static constexpr std::size_t kMaxSamples = 4096;
 
   const ViewerOptions options;
   mutable std::mutex mutex;

@@ -4,12 +4,15 @@
 #include "io/detections_log.h"
 #include "io/json.h"
 #include "io/lcm_log.h"
+#include "io/viewer.h"
 #include "support/processes.h"
 
 #include <gtest/gtest.h>
 #include <httplib.h>
 #include <png.h>
+#include <saccade/status_t.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <regex>
@@ -247,6 +250,31 @@ TEST(View, SaysOnThePageWhenNoDaemonIsHeardAndRefusesABusyPort) {
   EXPECT_NE(err.find("cannot listen on 127.0.0.1:" + std::to_string(view.port())),
             std::string::npos)
       << err;
+}
+
+// A flood of statuses within the strips' minute (the fuzzer gives every message the same
+// time) keeps at most the viewer's cap of samples a strip, not one a message.
+TEST(View, AFloodOfStatusesKeepsTheStripsBounded) {
+  ViewerState viewer{ViewerOptions{}};
+  saccade::status_t m{};
+  m.source = "synthetic:static";
+  m.source_state = "streaming";
+  m.fps = 30;
+  m.num_stages = 0;
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(m.getEncodedSize()));
+  ASSERT_EQ(m.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
+  for (int i = 0; i < 10000; ++i)
+    ASSERT_TRUE(viewer.OnMessage("SACCADE_STATUS", bytes.data(), bytes.size(), 1.0));
+  const std::string json = viewer.StateJson(1.0);
+  const std::size_t begin = json.find("\"fps\":[[");
+  ASSERT_NE(begin, std::string::npos) << json.substr(0, 400);
+  const std::size_t end = json.find("]]", begin);
+  ASSERT_NE(end, std::string::npos);
+  EXPECT_EQ(std::count(json.begin() + static_cast<long>(begin),
+                       json.begin() + static_cast<long>(end), '[') -
+                1,
+            4096);
 }
 
 }  // namespace
