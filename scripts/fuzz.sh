@@ -60,7 +60,8 @@ flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
 declare -A sources=(
   [pcd]="tests/fuzz/pcd_check_fuzz.cc io/pcd_check.cc"
   [command]="tests/fuzz/command_fuzz.cc io/bus.cc io/log.cc io/fixation_log.cc
-             io/detections_log.cc io/lcm_log.cc io/viewer.cc io/preview.cc"
+             io/detections_log.cc io/lcm_log.cc io/viewer.cc io/preview.cc
+             attention/attention.cc core/foveation.cc"
   [config]="tests/fuzz/config_fuzz.cc io/config.cc daemon/settings.cc io/truth_file.cc
             io/images.cc io/fixation_log.cc io/lcm_log.cc"
   [image]="tests/fuzz/image_fuzz.cc io/images.cc"

@@ -4,21 +4,121 @@
 // io/detections_log.h), and the viewer's state fed the bytes on each of its channels
 // (io/viewer.h: detections, fixation, status and preview, io/preview.h). Each must return a
 // message or refuse, never crash.
+//
+// Then the daemon's handling of a command that decoded (Tracker::Impl::OnCommand in
+// daemon/tracker.cc), the parts that take the message's values: a SWITCH_MODEL's path goes
+// through CommandModelAllowed against a model folder that holds a model, a pipe, a link out
+// and a folder (an allowed path must be a regular file under it); a SET_FOVEA or RESET resets
+// the attention loop as the attend stage does, and the fixation it gives places the fovea's
+// boxes and foveates a small cloud, as the next frame would. Describing an allowed model is
+// the PCD loader's (the `pcd` target) and is not done here.
+#include "attention/attention.h"
+#include "core/foveation.h"
 #include "io/bus.h"
 #include "io/detections_log.h"
 #include "io/fixation_log.h"
 #include "io/viewer.h"
 
+#include <sys/stat.h>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The seed corpus's SWITCH_MODEL messages name these paths.
+const std::string kModelRoot = "/tmp/saccade-fuzz-models";
+
+// The model folder: models/mug.pcd (allowed), models/pipe.pcd (a FIFO), models/link.pcd (a link
+// to secret.pcd, outside), models/sub (a folder). Made once a process.
+const std::string& ModelDir() {
+  static const std::string dir = [] {
+    fs::create_directories(kModelRoot + "/models/sub");
+    std::ofstream(kModelRoot + "/models/mug.pcd") << "x";
+    std::ofstream(kModelRoot + "/secret.pcd") << "x";
+    std::error_code ignored;
+    fs::create_symlink(kModelRoot + "/secret.pcd", kModelRoot + "/models/link.pcd", ignored);
+    mkfifo((kModelRoot + "/models/pipe.pcd").c_str(), 0600);  // EEXIST from an earlier run
+    return kModelRoot + "/models";
+  }();
+  return dir;
+}
+
+// A 20 x 20 cm plane of 441 points 1 m in front of the camera: what the next frame foveates.
+const saccade::Cloud& NextFrame() {
+  static const saccade::Cloud cloud = [] {
+    saccade::Cloud c;
+    for (int i = -10; i <= 10; ++i)
+      for (int j = -10; j <= 10; ++j) {
+        saccade::PointT p;
+        p.x = 0.01f * i;
+        p.y = 0.01f * j;
+        p.z = 1.0f;
+        c.push_back(p);
+      }
+    return c;
+  }();
+  return cloud;
+}
+
+void HandleSwitchModel(const std::string& spec) {
+  std::string why;
+  const bool allowed = saccade::CommandModelAllowed(spec, {ModelDir()}, &why);
+  if (!allowed && (why.empty() || why.find('\n') != std::string::npos)) __builtin_trap();
+  if (!allowed || spec == "synthetic:target") return;
+  std::error_code error;
+  const fs::path real = fs::canonical(spec, error);
+  const std::string under = fs::canonical(ModelDir()).string() + "/";
+  if (error || !fs::is_regular_file(real) || real.string().rfind(under, 0) != 0) __builtin_trap();
+}
+
+void HandleFovea(const saccade::Command& command) {
+  const saccade::AttentionOptions options;
+  const Eigen::Vector3f initial(0, 0, 1);
+  saccade::Attention attention(options, initial);
+  attention.Update(0, 0.0, {}, {});
+  attention.Reset(command.kind == saccade::Command::Kind::kSetFovea ? command.fovea_m : initial,
+                  "command");
+  const saccade::Fixation& f = attention.current();
+  if (!f.fovea_m.allFinite() || !(f.growth_m >= options.growth_min_m) ||
+      !(f.growth_m <= options.growth_max_m))
+    __builtin_trap();
+  saccade::FoveaOptions fovea;
+  fovea.growth_m = Eigen::Vector3f::Constant(f.growth_m);
+  const auto bounds = saccade::BoundingBox(NextFrame());
+  const saccade::FoveatedCloud foveated = saccade::Foveate(
+      NextFrame(), fovea, saccade::ComputeFoveaGeometry(fovea, *bounds, f.fovea_m));
+  if (foveated.cloud.size() > NextFrame().size()) __builtin_trap();
+}
+
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::string why;
   const auto command = saccade::DecodeCommand(data, size, saccade::BusOptions{},
                                               Eigen::Isometry3f::Identity(), &why);
   if (!command && (why.empty() || why.find('\n') != std::string::npos)) __builtin_trap();
+  if (command) {
+    switch (command->kind) {
+      case saccade::Command::Kind::kSwitchModel:
+        HandleSwitchModel(command->model);
+        break;
+      case saccade::Command::Kind::kSetFovea:
+      case saccade::Command::Kind::kReset:
+        HandleFovea(*command);
+        break;
+      case saccade::Command::Kind::kPause:
+      case saccade::Command::Kind::kResume:
+        break;  // a flag under the tracker's lock: nothing of the message's is used
+    }
+  }
   // The same bytes as the other messages: what decodes is also written, as the converters do.
   std::ostringstream out;
   saccade::LoggedFixation fixation;
