@@ -127,12 +127,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   saccade::LoggedDetections detections;
   if (saccade::DecodeDetections(data, size, &detections))
     saccade::DetectionWriter(out, saccade::TableFormat::kJsonl).Write(detections);
-  // The viewer: every channel it listens to, then its state and preview as served.
-  static saccade::ViewerState viewer{saccade::ViewerOptions{}};
-  for (const char* channel :
-       {"SACCADE_DETECTIONS", "SACCADE_FIXATION", "SACCADE_STATUS", "SACCADE_PREVIEW"})
-    viewer.OnMessage(channel, data, size, 1.0);
-  if (viewer.StateJson(1.0).empty()) __builtin_trap();
+  // The viewer: every channel it listens to, twice (what it keeps from one message to the
+  // next: strips, trail, the drop count), then its state and preview as served. A viewer for
+  // each input, so an input found crashing crashes again alone.
+  saccade::ViewerState viewer{saccade::ViewerOptions{}};
+  for (const double now_s : {1.0, 2.0})
+    for (const char* channel :
+         {"SACCADE_DETECTIONS", "SACCADE_FIXATION", "SACCADE_STATUS", "SACCADE_PREVIEW"})
+      viewer.OnMessage(channel, data, size, now_s);
+  if (viewer.StateJson(2.0).empty()) __builtin_trap();
   viewer.PreviewImage(-1);
   viewer.PreviewPoints(-1);
   return 0;
