@@ -5,13 +5,17 @@
 // (io/viewer.h: detections, fixation, status and preview, io/preview.h). Each must return a
 // message or refuse, never crash.
 //
-// Then the daemon's handling of a command that decoded (Tracker::Impl::OnCommand in
-// daemon/tracker.cc), the parts that take the message's values: a SWITCH_MODEL's path goes
-// through CommandModelAllowed against a model folder that holds a model, a pipe, a link out
-// and a folder (an allowed path must be a regular file under it); a SET_FOVEA or RESET resets
-// the attention loop as the attend stage does, and the fixation it gives places the fovea's
-// boxes and foveates a small cloud, as the next frame would. Describing an allowed model is
-// the PCD loader's (the `pcd` target) and is not done here.
+// Then what the daemon does with a command that decoded (Tracker::Impl::OnCommand in
+// daemon/tracker.cc, and AttendStage::Process in daemon/stages.cc, whose few lines applying a
+// command are repeated here, as the daemon's stages are too heavy to build into a target): a
+// SWITCH_MODEL's path goes through CommandModelAllowed against a model folder that holds a
+// model, a pipe, a link out and a folder, and what it allows must be one of the folder's
+// regular files, found by walking the folder without following links and compared by device
+// and inode (not through realpath, which CommandModelAllowed uses); a SET_FOVEA or RESET
+// resets the attention loop, and the fixation it gives places the fovea's boxes and foveates a
+// small cloud, as the next frame would. DecodeCommand has already bounded the fovea, so that
+// part's checks are invariants; what it looks for is the sanitizers' reports. Describing an
+// allowed model is the PCD loader's (the `pcd` target) and is not done here.
 #include "attention/attention.h"
 #include "core/foveation.h"
 #include "io/bus.h"
@@ -25,8 +29,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -51,6 +57,21 @@ const std::string& ModelDir() {
   return dir;
 }
 
+// The regular files in the model folder (not links to them), as device and inode: what a
+// SWITCH_MODEL may name, by whatever path.
+const std::set<std::pair<dev_t, ino_t>>& ModelFiles() {
+  static const std::set<std::pair<dev_t, ino_t>> files = [] {
+    std::set<std::pair<dev_t, ino_t>> found;
+    for (const fs::directory_entry& e : fs::recursive_directory_iterator(ModelDir())) {
+      struct stat st;
+      if (e.symlink_status().type() == fs::file_type::regular && lstat(e.path().c_str(), &st) == 0)
+        found.insert({st.st_dev, st.st_ino});
+    }
+    return found;
+  }();
+  return files;
+}
+
 // A 20 x 20 cm plane of 441 points 1 m in front of the camera: what the next frame foveates.
 const saccade::Cloud& NextFrame() {
   static const saccade::Cloud cloud = [] {
@@ -73,10 +94,9 @@ void HandleSwitchModel(const std::string& spec) {
   const bool allowed = saccade::CommandModelAllowed(spec, {ModelDir()}, &why);
   if (!allowed && (why.empty() || why.find('\n') != std::string::npos)) __builtin_trap();
   if (!allowed || spec == "synthetic:target") return;
-  std::error_code error;
-  const fs::path real = fs::canonical(spec, error);
-  const std::string under = fs::canonical(ModelDir()).string() + "/";
-  if (error || !fs::is_regular_file(real) || real.string().rfind(under, 0) != 0) __builtin_trap();
+  struct stat st;
+  if (stat(spec.c_str(), &st) != 0 || ModelFiles().count({st.st_dev, st.st_ino}) == 0)
+    __builtin_trap();
 }
 
 void HandleFovea(const saccade::Command& command) {
@@ -84,8 +104,10 @@ void HandleFovea(const saccade::Command& command) {
   const Eigen::Vector3f initial(0, 0, 1);
   saccade::Attention attention(options, initial);
   attention.Update(0, 0.0, {}, {});
-  attention.Reset(command.kind == saccade::Command::Kind::kSetFovea ? command.fovea_m : initial,
-                  "command");
+  if (command.kind == saccade::Command::Kind::kSetFovea)
+    attention.Reset(command.fovea_m, "command");
+  else
+    attention.Reset(initial, "reset");
   const saccade::Fixation& f = attention.current();
   if (!f.fovea_m.allFinite() || !(f.growth_m >= options.growth_min_m) ||
       !(f.growth_m <= options.growth_max_m))
