@@ -5,6 +5,7 @@
 #include "core/registration.h"
 #include "io/frame_pairer.h"
 #include "io/images.h"
+#include "io/log.h"
 #include "io/mailbox.h"
 #include "io/text.h"
 
@@ -16,6 +17,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -336,10 +338,13 @@ class StreamSource : public OpenNI2Source {
   // call after stop() was woken by a frame that came after stop(), so the one that may have
   // been past the check has left the locks. While callbacks come it waits on (a frame may be
   // held up behind the recorder's thread writing the file); once no stream has called back for
-  // kDrainAtMost they have stalled, nothing is in flight, and it goes on (and after
-  // kDrainLongest whatever comes: one stream may flow while the other has stalled).
+  // kDrainAtMost they have stalled, and it goes on (and after kDrainLongest in all whatever
+  // comes: one stream may flow while the other has stalled). Going on unconfirmed is logged:
+  // silence is not proof, a driver thread can be held in Recorder::record behind the
+  // recorder's thread writing a frame, and then destroy() can still deadlock in libOpenNI2.
   // Not covered: stop() right after start(), before libOpenNI2's recorder thread has taken the
-  // start (it sets started then, after this stop()).
+  // start (it sets started then, after this stop()); step-mode playback, whose frames are read,
+  // not listened to (the player's frame in flight is not waited for).
   void StopRecording() override {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!recorder_.isValid()) return;
@@ -353,14 +358,21 @@ class StreamSource : public OpenNI2Source {
       return done(depth_listener_, depth_then) && done(colour_listener_, colour_then);
     };
     const Clock::time_point give_up = Clock::now() + kDrainLongest;  // one stream may stall
-    while (!drained() && Clock::now() < give_up) {
+    while (!drained()) {
+      const Clock::time_point now = Clock::now();
       const std::uint64_t seen = depth_listener_.calls + colour_listener_.calls;
-      if (!callback_.wait_for(calls, kDrainAtMost, [&] {
+      if (now >= give_up ||
+          !callback_.wait_until(calls, std::min(now + kDrainAtMost, give_up), [&] {
             return drained() || depth_listener_.calls + colour_listener_.calls != seen;
           }))
-        break;  // stalled
+        break;  // stalled, or out of time
     }
+    const bool confirmed = drained();
     calls.unlock();
+    if (!confirmed)
+      Log(LogLevel::kWarning,
+          "OpenNI2: closing the recording before every stream's frames were seen through "
+          "(a stream stalled); libOpenNI2's recorder may hang here");
     recorder_.destroy();
   }
 

@@ -167,9 +167,10 @@ std::unique_ptr<ViewerServer> ViewerServer::Open(const ViewerOptions& options, s
                     "' (no index.html; --web-dir, or build the 'web' target)");
     return nullptr;
   }
-  std::unique_ptr<lcm::LCM> lcm = OpenLcm(options.lcm_url, error);
+  std::string why;
+  std::unique_ptr<lcm::LCM> lcm = OpenLcm(options.lcm_url, &why);
   if (!lcm) {
-    Fail(error, "saccade view: " + *error);
+    Fail(error, "saccade view: " + why);
     return nullptr;
   }
   auto viewer = std::make_unique<HttpViewer>(options, std::move(lcm));

@@ -90,6 +90,33 @@ TEST(SceneImage, AnUnorganizedCloudLandsWhereItsPointsProjectAndTheNearestWins) 
   EXPECT_EQ(CountColour(image, Rgb{}), 640 * 480 - 2);
 }
 
+// The preview's image (core/preview.cc): an organized cloud decimated by `step` keeps pixel
+// (u step, v step) as its (u, v), coloured or shaded by depth.
+TEST(SceneImage, AStepKeepsEveryStepthPixelOfAnOrganizedCloud) {
+  Cloud cloud(7, 5);  // 7 x 5: step 2 gives 3 x 2, the odd column and row dropped
+  for (int v = 0; v < 5; ++v)
+    for (int u = 0; u < 7; ++u) {
+      PointT& p = cloud.at(u, v);
+      p.x = 0.01f * u, p.y = 0.01f * v, p.z = 1.0f + 0.1f * (u + 7 * v);
+      p.r = static_cast<std::uint8_t>(10 * u), p.g = static_cast<std::uint8_t>(10 * v), p.b = 1;
+      p.a = 255;
+    }
+  const RgbCanvas image = SceneImage(cloud, CameraIntrinsics{}, 2);
+  ASSERT_EQ(image.width, 3);
+  ASSERT_EQ(image.height, 2);
+  for (int v = 0; v < 2; ++v)
+    for (int u = 0; u < 3; ++u)
+      EXPECT_EQ(image.At(u, v),
+                (Rgb{static_cast<std::uint8_t>(20 * u), static_cast<std::uint8_t>(20 * v), 1}))
+          << u << "," << v;
+  // Without colour: shaded by depth, the nearest kept point (the cloud's first) brightest.
+  for (PointT& p : cloud.points) p.r = p.g = p.b = 0;
+  const RgbCanvas shaded = SceneImage(cloud, CameraIntrinsics{}, 2);
+  ASSERT_EQ(shaded.width, 3);
+  EXPECT_GT(shaded.At(0, 0).r, shaded.At(2, 1).r);
+  EXPECT_GT(shaded.At(2, 0).r, shaded.At(2, 1).r);
+}
+
 TEST(Drawing, LinesFarOutsideTheImageAreClippedAndTextStaysInItsBox) {
   RgbCanvas canvas(64, 48, kWhite);
   // A line from far away across the image: drawn where it crosses, nothing else, at once.
