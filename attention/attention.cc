@@ -21,6 +21,14 @@ bool AttentionOptions::IsValid(std::string* error) const {
     return Fail(error, "growth_floor_m must be > 0");
   if (!finite(saccade_region_m) || saccade_region_m <= 0)
     return Fail(error, "saccade_region_m must be > 0");
+  if (max_candidate_visits < 0 || max_candidate_visits > 1000)
+    return Fail(error, "max_candidate_visits must be in [0, 1000]");
+  if (!finite(acquire_confidence) || acquire_confidence < 0 || acquire_confidence > 1)
+    return Fail(error, "acquire_confidence must be in [0, 1]");
+  if (!finite(challenge_margin) || challenge_margin < 0 || challenge_margin > 1)
+    return Fail(error, "challenge_margin must be in [0, 1]");
+  if (!finite(land_on_candidate_m) || land_on_candidate_m < 0)
+    return Fail(error, "land_on_candidate_m must be >= 0");
   if (max_targets < 1) return Fail(error, "max_targets must be >= 1");
   if (!finite(same_target_m) || same_target_m <= 0) return Fail(error, "same_target_m must be > 0");
   if (!finite(predict_max_horizon_s) || predict_max_horizon_s < 0)
@@ -28,6 +36,15 @@ bool AttentionOptions::IsValid(std::string* error) const {
   if (!finite(velocity_smoothing) || velocity_smoothing <= 0 || velocity_smoothing > 1)
     return Fail(error, "velocity_smoothing must be in (0, 1]");
   return true;
+}
+
+Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
+                                const std::vector<Eigen::Vector3f>& places, float reach_m) {
+  Eigen::Vector3f landed = aim_m;
+  float best = reach_m;
+  for (const Eigen::Vector3f& p : places)
+    if (const float d = (p - aim_m).norm(); d <= best) best = d, landed = p;
+  return landed;
 }
 
 Eigen::Vector3f Attention::Target::PredictedAt(double time_s) const {
@@ -53,6 +70,8 @@ void Attention::Reset(const Eigen::Vector3f& fovea_m, const std::string& reason)
   targets_.clear();
   visited_.clear();
   saccading_ = false;
+  candidate_visits_ = 0;
+  has_tentative_ = false;
 }
 
 void Attention::SetOptions(const AttentionOptions& options) {
@@ -87,6 +106,25 @@ void Attention::See(Target* target, const Detection& s, double time_s) {
   }
   target->position_m = s.centroid_m;
   target->last_seen_s = time_s;
+  target->confidence = s.confidence;
+}
+
+bool Attention::Qualifies(const Detection& s) const {
+  return s.confidence < 0 || s.confidence >= options_.acquire_confidence;
+}
+
+// While nothing is followed, the most confident sighting too weak to start a target is kept:
+// once the candidates are visited, the search follows it rather than nothing.
+void Attention::Remember(const std::vector<Detection>& sightings, const std::vector<bool>& used) {
+  if (current_.target >= 0 && Find(current_.target)) return;
+  for (std::size_t i = 0; i < sightings.size(); ++i) {
+    if (used[i] || Qualifies(sightings[i])) continue;
+    if (!has_tentative_ || sightings[i].confidence > tentative_.confidence) {
+      tentative_ = sightings[i];
+      tentative_.correspondences.clear();
+      has_tentative_ = true;
+    }
+  }
 }
 
 // Every target but the followed one takes the nearest unclaimed sighting of its model within
@@ -116,14 +154,32 @@ void Attention::Associate(double time_s, const std::vector<Detection>& sightings
   const Eigen::Vector3f fovea = current_.FoveaAt(time_s, options_.predict_max_horizon_s);
   constexpr float kAnyDistance = std::numeric_limits<float>::infinity();
   *attended_seen = false;
+  challenged_ = false;
   if (Target* followed = Find(current_.target)) {
-    const int i = nearest(followed->model, fovea, kAnyDistance);
+    int i = nearest(followed->model, fovea, kAnyDistance);
+    // A clearly more confident sighting of its model elsewhere takes the target over.
+    if (followed->confidence >= 0) {
+      float bar =
+          std::max(options_.acquire_confidence, followed->confidence + options_.challenge_margin);
+      for (std::size_t j = 0; j < sightings.size(); ++j) {
+        if (used[j] || static_cast<int>(j) == i || sightings[j].model != followed->model) continue;
+        if (sightings[j].confidence >= bar) i = static_cast<int>(j), bar = sightings[j].confidence;
+      }
+      challenged_ = i >= 0 &&
+                    (sightings[i].centroid_m - followed->PredictedAt(time_s)).norm() >
+                        options_.same_target_m &&
+                    sightings[i].confidence >= followed->confidence + options_.challenge_margin;
+      if (challenged_) followed->velocity_mps.setZero(), followed->has_velocity = false;
+    }
     if (i >= 0) {
       used[i] = true;
       See(followed, sightings[i], time_s);
       *attended_seen = true;
     }
   }
+  Remember(sightings, used);
+  // Only sightings confident enough start a target (acquire_confidence).
+  for (std::size_t i = 0; i < sightings.size(); ++i) used[i] = used[i] || !Qualifies(sightings[i]);
   while (static_cast<int>(targets_.size()) < options_.max_targets) {
     const int i = nearest(-1, fovea, kAnyDistance);
     if (i < 0) break;
@@ -133,6 +189,7 @@ void Attention::Associate(double time_s, const std::vector<Detection>& sightings
     t.model = sightings[i].model;
     t.position_m = sightings[i].centroid_m;
     t.last_seen_s = time_s;
+    t.confidence = sightings[i].confidence;
     targets_.push_back(t);
   }
 }
@@ -140,6 +197,8 @@ void Attention::Associate(double time_s, const std::vector<Detection>& sightings
 void Attention::Follow(const Target& target, double time_s, const char* reason, Fixation* next) {
   visited_.clear();  // a target to follow ends any search
   saccading_ = false;
+  candidate_visits_ = 0;
+  has_tentative_ = false;
   next->fovea_m = target.PredictedAt(time_s);
   next->velocity_mps = target.velocity_mps;
   next->growth_m = options_.growth_min_m;
@@ -152,7 +211,7 @@ void Attention::Follow(const Target& target, double time_s, const char* reason, 
 
 Fixation Attention::Update(std::int64_t frame_seq, double time_s,
                            const std::vector<Detection>& sightings,
-                           const std::vector<Eigen::Vector3f>& salient_regions) {
+                           const std::vector<Eigen::Vector3f>& places) {
   Fixation next = current_;
   ++next.searched_frames;  // Follow sets it back to 0
   next.frame_seq = frame_seq;
@@ -167,7 +226,7 @@ Fixation Attention::Update(std::int64_t frame_seq, double time_s,
       const auto after = std::next(it) == targets_.end() ? targets_.begin() : std::next(it);
       Follow(*after, time_s, "alternate", &next);
     } else {
-      Follow(*it, time_s, "detected", &next);
+      Follow(*it, time_s, challenged_ ? "challenged" : "detected", &next);
     }
   } else if (current_.target < 0 && !targets_.empty()) {
     // Found while searching with no target: follow the new target nearest the fovea.
@@ -177,19 +236,58 @@ Fixation Attention::Update(std::int64_t frame_seq, double time_s,
     });
     Follow(*it, time_s, "detected", &next);
   } else {
-    Lost(salient_regions, &next);
+    Lost(places, &next);
   }
   next.num_targets = static_cast<int>(targets_.size());
   current_ = next;
   return next;
 }
 
-void Attention::Lost(const std::vector<Eigen::Vector3f>& salient, Fixation* next) {
+// The best candidate not visited in this search (nor where the fovea is): false when none is
+// left or the visits are spent.
+bool Attention::VisitCandidate(const std::vector<Eigen::Vector3f>& places, Fixation* next) {
+  if (candidate_visits_ >= options_.max_candidate_visits) return false;
+  if (candidate_visits_ == 0) visited_.clear();
+  visited_.push_back(current_.fovea_m);
+  const auto pick = std::find_if(places.begin(), places.end(), [&](const Eigen::Vector3f& p) {
+    return std::none_of(visited_.begin(), visited_.end(), [&](const Eigen::Vector3f& v) {
+      return (p - v).norm() < options_.same_target_m;
+    });
+  });
+  if (pick == places.end()) return false;
+  ++candidate_visits_;
+  next->fovea_m = *pick;
+  next->growth_m = options_.growth_min_m;
+  next->mode = AttentionMode::kSearching;
+  next->reason = "candidate";
+  return true;
+}
+
+void Attention::Lost(const std::vector<Eigen::Vector3f>& places, Fixation* next) {
   next->velocity_mps.setZero();  // a lost target's fovea stays where it was last seen
   if (current_.mode == AttentionMode::kFullScan) {
     next->reason = "full_scan";
     return;
   }
+  // With no target known (a cold start, a reset): candidates first, then the best sighting too
+  // weak to start on, then G grows from the last of them. A lost target is searched where it
+  // was last seen, as the paper does: it is likeliest to come back there.
+  const bool growing = current_.growth_m > options_.growth_min_m || saccading_;
+  if (options_.search == SearchKind::kCandidates && !growing && targets_.empty()) {
+    if (VisitCandidate(places, next)) return;
+    if (has_tentative_) {
+      Target t;
+      t.id = next_id_++;
+      t.model = tentative_.model;
+      t.position_m = tentative_.centroid_m;
+      t.last_seen_s = next->time_s;
+      t.confidence = tentative_.confidence;
+      targets_.assign(1, t);
+      Follow(t, next->time_s, "tentative", next);
+      return;
+    }
+  }
+  const std::vector<Eigen::Vector3f>& salient = places;
   if (current_.growth_m < options_.growth_max_m && !saccading_) {
     const float g = current_.growth_m;
     const float grown = options_.growth_kind == GrowthKind::kMultiplicative

@@ -19,6 +19,9 @@ namespace saccade {
 
 enum class GrowthKind { kAdditive, kMultiplicative };
 enum class LostFallback { kFullScan, kSaccade };
+/// How a search starts: visit the frame's candidates (core/candidates.h), best first, before G
+/// grows; or grow G from the last fixation at once (the paper).
+enum class SearchKind { kCandidates, kGrow };
 
 struct AttentionOptions {
   float growth_min_m = 0.0f;  // G_min, used while tracking (paper: 0)
@@ -33,6 +36,22 @@ struct AttentionOptions {
   LostFallback fallback = LostFallback::kFullScan;
   /// Two salient regions closer than this are the same region (inhibition of return), metres.
   float saccade_region_m = 0.25f;
+  /// The search: candidates first (then G grows), or G grows at once.
+  SearchKind search = SearchKind::kCandidates;
+  /// Candidates visited per search before G grows from the last of them.
+  int max_candidate_visits = 8;
+  /// A search starts following a sighting only at this confidence or above (a sighting without
+  /// one, from unverified recognition, always qualifies). Below it, the most confident sighting
+  /// of the search is remembered and followed once the candidates are visited. 0: follow the
+  /// first sighting, as the paper does.
+  float acquire_confidence = 0.9f;
+  /// A fixation given from outside (a command, the initial fovea) lands on the nearest
+  /// candidate within this distance, as a saccade lands on the object near where it was
+  /// aimed. 0: it stays where it was given.
+  float land_on_candidate_m = 0.0f;
+  /// A followed target gives way to a sighting of its model elsewhere that is at least
+  /// acquire_confidence and this much more confident than the target's own last sighting.
+  float challenge_margin = 0.15f;
   /// Targets visited in turn, one per frame; 1 follows one target as the paper does.
   int max_targets = 1;
   /// A sighting within this distance of where a target should be is that target, metres.
@@ -58,6 +77,12 @@ struct AttentionOptions {
     a->Choice("fallback", &fallback,
               {{"full_scan", LostFallback::kFullScan}, {"saccade", LostFallback::kSaccade}});
     a->Visit("saccade_region_m", &saccade_region_m);
+    a->Choice("search", &search,
+              {{"candidates", SearchKind::kCandidates}, {"grow", SearchKind::kGrow}});
+    a->Visit("max_candidate_visits", &max_candidate_visits);
+    a->Visit("acquire_confidence", &acquire_confidence);
+    a->Visit("challenge_margin", &challenge_margin);
+    a->Visit("land_on_candidate_m", &land_on_candidate_m);
     a->Visit("max_targets", &max_targets);
     a->Visit("same_target_m", &same_target_m);
     a->Visit("predict", &predict);
@@ -66,15 +91,21 @@ struct AttentionOptions {
   }
 };
 
+/// Where a fixation aimed at `aim_m` lands: the nearest of `places` within `reach_m`, or the aim
+/// itself when none is that near.
+Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
+                                const std::vector<Eigen::Vector3f>& places, float reach_m);
+
 /// Serial state machine; call Update once per frame, in frame order. Not thread-safe.
 class Attention {
  public:
   Attention(const AttentionOptions& options, const Eigen::Vector3f& initial_fovea_m);
 
-  /// Digests one frame: its sightings (every model's instances) and, for the saccade fallback,
-  /// the salient regions of its coarse level, most salient first.
+  /// Digests one frame: its sightings (every model's instances) and where to look next when
+  /// searching, best first: the frame's candidates (search: candidates) or, for the saccade
+  /// fallback, the salient regions of its coarse level.
   Fixation Update(std::int64_t frame_seq, double time_s, const std::vector<Detection>& sightings,
-                  const std::vector<Eigen::Vector3f>& salient_regions = {});
+                  const std::vector<Eigen::Vector3f>& places = {});
   /// Forgets every target: searching around `fovea_m` with G_min. `reason` goes in the record.
   void Reset(const Eigen::Vector3f& fovea_m, const std::string& reason = "reset");
   /// New options (a reloaded config); targets are kept, G is clamped into the new range.
@@ -90,6 +121,7 @@ class Attention {
     Eigen::Vector3f velocity_mps = Eigen::Vector3f::Zero();
     bool has_velocity = false;  // seen twice with the predictor on
     double last_seen_s = 0;
+    float confidence = -1;  // of its last sighting
     Eigen::Vector3f PredictedAt(double time_s) const;
   };
 
@@ -97,7 +129,10 @@ class Attention {
   void Associate(double time_s, const std::vector<Detection>& sightings, bool* attended_seen);
   void See(Target* target, const Detection& s, double time_s);
   void Follow(const Target& target, double time_s, const char* reason, Fixation* next);
-  void Lost(const std::vector<Eigen::Vector3f>& salient, Fixation* next);
+  void Lost(const std::vector<Eigen::Vector3f>& places, Fixation* next);
+  bool VisitCandidate(const std::vector<Eigen::Vector3f>& places, Fixation* next);
+  bool Qualifies(const Detection& s) const;
+  void Remember(const std::vector<Detection>& sightings, const std::vector<bool>& used);
 
   AttentionOptions options_;
   Fixation current_;
@@ -105,6 +140,11 @@ class Attention {
   int next_id_ = 0;
   std::vector<Eigen::Vector3f> visited_;  // saccade fallback: regions seen in this search
   bool saccading_ = false;                // the fallback is jumping between salient regions
+  /// This search's candidate visits, and its most confident sighting below acquire_confidence.
+  int candidate_visits_ = 0;
+  bool has_tentative_ = false;
+  bool challenged_ = false;  // this frame's sighting of the followed target took it elsewhere
+  Detection tentative_;
 };
 
 }  // namespace saccade

@@ -43,6 +43,8 @@ bool TrackingOptions::IsValid(std::string* error) const {
   if (!(same_track_m > 0)) return Fail(error, "same_track_m must be > 0");
   if (!(min_extra_track_confidence >= 0 && min_extra_track_confidence <= 1))
     return Fail(error, "min_extra_track_confidence must be in [0, 1]");
+  if (!(min_track_confidence >= 0 && min_track_confidence <= 1))
+    return Fail(error, "min_track_confidence must be in [0, 1]");
   if (!(reacquire_radius_m >= same_track_m))
     return Fail(error, "reacquire_radius_m must be >= same_track_m");
   if (recheck_max_keypoints < 0) return Fail(error, "recheck_max_keypoints must be >= 0");
@@ -327,8 +329,10 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       if (used[k]) continue;
       const bool model_tracked = std::any_of(tracks_.begin(), tracks_.end(),
                                              [&](const Track& o) { return o.model == d.model; });
-      if (static_cast<int>(tracks_.size()) >= options_.max_tracks ||
-          (model_tracked && d.confidence < options_.min_extra_track_confidence)) {
+      const float bar = model_tracked    ? options_.min_extra_track_confidence
+                        : frame.attended ? 0.0f
+                                         : options_.min_track_confidence;
+      if (static_cast<int>(tracks_.size()) >= options_.max_tracks || d.confidence < bar) {
         out.push_back(d);  // published as recognition found it, not tracked (state NONE)
         continue;
       }
@@ -338,7 +342,10 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
       tracks_.push_back(t);
       taken.push_back(false);
       ambiguous.push_back(false);
-      reacquire(tracks_.size() - 1, d, "found");
+      char found[64];
+      std::snprintf(found, sizeof found, "found (confidence %.2f%s)", d.confidence,
+                    frame.attended ? ", the best of a search" : "");
+      reacquire(tracks_.size() - 1, d, found);
       used[k] = true;
     }
     // 3. Held tracks recognition looked at (inside where it searched: a track outside stays

@@ -44,6 +44,10 @@ struct TrackingOptions {
   /// docs/RESULTS.md): one object per model is the common case, and a look-alike the usual
   /// false instance.
   float min_extra_track_confidence = 0.9f;
+  /// The first track of a model starts only from an instance this confident, unless attention
+  /// chose the instance itself (TrackFrame::attended: the most confident of a whole search):
+  /// a look-alike seen first is not locked onto (docs/RESULTS.md, issue 34).
+  float min_track_confidence = 0.9f;
   /// A lost track is re-acquired by an instance farther than this from its last held pose only
   /// at min_extra_track_confidence (and a less confident instance this near a held track that
   /// recognition did not confirm is its object at a worse pose): while the object hides, a
@@ -73,6 +77,7 @@ struct TrackingOptions {
     a->Visit("unconfirmed_rechecks", &unconfirmed_rechecks);
     a->Visit("same_track_m", &same_track_m);
     a->Visit("min_extra_track_confidence", &min_extra_track_confidence);
+    a->Visit("min_track_confidence", &min_track_confidence);
     a->Visit("reacquire_radius_m", &reacquire_radius_m);
     a->Visit("recheck_max_keypoints", &recheck_max_keypoints);
     a->Visit("max_tracks", &max_tracks);
@@ -105,6 +110,10 @@ struct TrackFrame {
   /// The models recognition ran for (ModelsToRecognize); empty: all. A held track of a model
   /// it did not run for is neither confirmed nor missed.
   std::vector<bool> recognized_models;
+  /// Attention foveated this frame on an instance it chose to follow without a track (the best
+  /// of a search that found none at min_track_confidence): a track may start from it below
+  /// that bar.
+  bool attended = false;
 };
 
 class TrackSet {

@@ -1,5 +1,6 @@
 #include "core/verification.h"
 
+#include "core/colour.h"
 #include "core/fail.h"
 #include "core/features.h"
 #include "core/foveation.h"
@@ -111,32 +112,6 @@ struct Check {
   std::vector<int> explained;   // scene points nearest the inlying model points
   std::vector<int> explaining;  // the inlying model points, one per explained scene point
 };
-
-// A colour histogram in rg chromaticity (r / (r+g+b), g / (r+g+b)), 8 x 8 bins over [0, 2/3]:
-// brightness is divided out, so another exposure moves nothing; pixels too dark to carry a
-// chromaticity are left out.
-using ColourHistogram = std::array<float, 64>;
-
-void AddColour(const PointT& p, ColourHistogram* h) {
-  constexpr float kMinSum = 30;
-  const float sum = float(p.r) + float(p.g) + float(p.b);
-  if (sum < kMinSum) return;
-  const int r = std::min(7, int(12 * p.r / sum)), g = std::min(7, int(12 * p.g / sum));
-  (*h)[g * 8 + r] += 1;
-}
-
-void Normalize(ColourHistogram* h) {
-  float total = 0;
-  for (float v : *h) total += v;
-  if (total > 0)
-    for (float& v : *h) v /= total;
-}
-
-float Intersection(const ColourHistogram& a, const ColourHistogram& b) {
-  float s = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += std::min(a[i], b[i]);
-  return s;
-}
 
 // The spread of points along their least-spread direction (0 when planar or too few).
 float Thickness(const std::vector<Eigen::Vector3f>& points) {

@@ -16,6 +16,8 @@ DaemonSettings PaperDefaults() {
   s.fovea.inner_size_m = Eigen::Vector3f::Constant(0.5f);
   s.fovea.outer_keypoint_radius_m = 0.08f;
   s.fovea.inner_keypoint_radius_m = 0.02f;
+  s.attention.search = SearchKind::kGrow;  // §3.4: G grows from the last fixation
+  s.attention.acquire_confidence = 0;      // and the first instance found is followed
   return s;
 }
 
@@ -48,9 +50,10 @@ bool DaemonSettings::IsValid(std::string* error) const {
     return Fail(error, std::string(section) + ": " + why);
   };
   return check("source", source) && check("recognition", recognition) && check("fovea", fovea) &&
-         check("attention", attention) && check("tracking", tracking) &&
-         check("saliency", saliency) && check("pipeline", pipeline) && check("lcm", bus) &&
-         check("robot_frame", bus.robot) && check("service", service) && check("preview", preview);
+         check("attention", attention) && check("candidates", candidates) &&
+         check("tracking", tracking) && check("saliency", saliency) &&
+         check("pipeline", pipeline) && check("lcm", bus) && check("robot_frame", bus.robot) &&
+         check("service", service) && check("preview", preview);
 }
 
 bool LoadDaemonSettings(const std::string& path, DaemonSettings* settings, std::string* error) {

@@ -4,6 +4,7 @@
 
 #include "attention/attention.h"
 #include "attention/tracks.h"
+#include "core/candidates.h"
 #include "core/foveation.h"
 #include "core/preview.h"
 #include "core/recognition.h"
@@ -88,6 +89,7 @@ struct DaemonSettings {
   RecognitionOptions recognition = DaemonRecognitionOptions();
   FoveaOptions fovea;  // growth_m is attention's to set: a file may not
   AttentionOptions attention;
+  CandidateOptions candidates;  // where a search looks first (attention.search: candidates)
   TrackingOptions tracking;
   SaliencyOptions saliency;
   PipelineOptions pipeline;
@@ -106,6 +108,7 @@ struct DaemonSettings {
     a->Section("recognition", &recognition);
     a->Section("fovea", &fovea);
     a->Section("attention", &attention);
+    a->Section("candidates", &candidates);
     a->Section("tracking", &tracking);
     a->Section("saliency", &saliency);
     a->Section("pipeline", &pipeline);

@@ -52,6 +52,22 @@ std::string SummaryLine(const Fixation& next, const std::optional<GroundTruth>& 
   return line;
 }
 
+// Every model's candidates in one list, best score first.
+std::vector<Eigen::Vector3f> MergedCandidates(const Cloud& cloud, const CameraIntrinsics& k,
+                                              const Models& models, const CandidateOptions& o) {
+  std::vector<Candidate> all;
+  for (const auto& m : models) {
+    if (m->signature.radius_m <= 0) continue;
+    const std::vector<Candidate> c = ProposeCandidates(cloud, k, m->signature, o);
+    all.insert(all.end(), c.begin(), c.end());
+  }
+  std::stable_sort(all.begin(), all.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  std::vector<Eigen::Vector3f> out;
+  for (const Candidate& c : all) out.push_back(c.centre_m);
+  return out;
+}
+
 }  // namespace
 
 std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
@@ -66,7 +82,9 @@ std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
       Fail(error, "model '" + spec + "': " + why);
       return std::nullopt;
     }
-    models.push_back(std::make_shared<const NamedModel>(NamedModel{spec, std::move(*d)}));
+    const ModelSignature signature = SignModel(d->cloud(), d->scale().spacing_m);
+    models.push_back(
+        std::make_shared<const NamedModel>(NamedModel{spec, std::move(*d), signature}));
   }
   return models;
 }
@@ -79,6 +97,8 @@ std::shared_ptr<const RecognizeStage::Config> RecognizeStage::MakeConfig(const D
   c->saliency = s.saliency;
   c->tracking = s.tracking;
   c->saccade_fallback = s.attention.fallback == LostFallback::kSaccade;
+  c->search_candidates = s.attention.search == SearchKind::kCandidates;
+  c->candidates = s.candidates;
   c->predict_max_horizon_s = s.attention.predict ? s.attention.predict_max_horizon_s : 0.0f;
   c->preview = s.preview;
   c->models = std::move(models);
@@ -152,9 +172,14 @@ void RecognizeStage::Process(Job* job) {
       out.instances.push_back(std::move(d));
     }
   }
-  // Only a search can end in a saccade; a tracking frame need not look for salient regions.
-  if (c.saccade_fallback && job->used.mode == AttentionMode::kSearching)
-    job->salient = SalientRegions(*frame.cloud, c.saliency);
+  // Only a search looks elsewhere: at every model's candidates, best first, or at the salient
+  // regions of the saccade fallback.
+  if (job->used.mode == AttentionMode::kSearching) {
+    if (c.search_candidates)
+      job->salient = MergedCandidates(*frame.cloud, frame.intrinsics, c.models, c.candidates);
+    else if (c.saccade_fallback)
+      job->salient = SalientRegions(*frame.cloud, c.saliency);
+  }
   out.recognize_ms = static_cast<float>(Ms(t0, SteadyNowNs()));
 }
 
@@ -198,6 +223,10 @@ void TrackStage::Process(Job* job) {
   f.sweep = job->sweep_phase >= 0;
   f.recognized_models = job->models;
   f.searched_centre_m = job->detections.fovea_m;
+  // Attention follows what no track holds: the best instance of its search (Attention's
+  // "tentative"), which may start a track below tracking.min_track_confidence.
+  f.attended =
+      job->used.mode == AttentionMode::kTracking && job->used.reason.rfind("tentative", 0) == 0;
   // Recognition confirms what lies in the fovea's finest box (grown by G); outside it the
   // coarse levels may miss an object that is there.
   f.searched_half_m = job->detections.foveated
@@ -224,9 +253,24 @@ void AttendStage::Process(Job* job) {
   // Attention follows what is seen: held tracks, or recognition's instances without tracking.
   const bool tracking = job->config && job->config->tracking.enabled;
   std::vector<Detection> seen;
-  for (const Detection& d : job->detections.instances)
-    if (Actionable(d.track_state, tracking)) seen.push_back(d);
+  for (const Detection& d : job->detections.instances) {
+    if (!Actionable(d.track_state, tracking)) continue;
+    seen.push_back(d);
+    // A held track passed the acquisition bar when it started (tracking.min_track_confidence):
+    // attention follows it whatever its score now, and the tracks, not attention, challenge it.
+    if (tracking) seen.back().confidence = -1;
+  }
   std::lock_guard<std::mutex> lock(mutex_);
+  // A search from nothing (no target known, or the one attention chose without a track): the
+  // instances the tracks declined (below tracking.min_track_confidence) are what it remembers,
+  // to follow the best once its candidates are visited. A lost track's search does not follow
+  // them: a look-alike is the usual instance while the object hides.
+  const Fixation& now = attention_.current();
+  const bool from_nothing = now.target < 0 || (now.mode == AttentionMode::kTracking &&
+                                               now.reason.rfind("tentative", 0) == 0);
+  if (tracking && seen.empty() && from_nothing)
+    for (const Detection& d : job->detections.instances)
+      if (d.track_state == TrackState::kNone) seen.push_back(d);
   Fixation f = attention_.Update(static_cast<std::int64_t>(job->frame.sequence),
                                  job->frame.capture_utime * 1e-6, seen, job->salient);
   if (pending_) {  // a command overrides what this frame would have done

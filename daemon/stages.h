@@ -5,6 +5,7 @@
 
 #include "attention/attention.h"
 #include "attention/tracks.h"
+#include "core/candidates.h"
 #include "core/frame.h"
 #include "core/recognition.h"
 #include "core/saliency.h"
@@ -27,6 +28,7 @@ namespace saccade {
 struct NamedModel {
   std::string name;
   ModelDescription description;
+  ModelSignature signature;  // what whole-frame candidates look for
 };
 using Models = std::vector<std::shared_ptr<const NamedModel>>;
 
@@ -37,7 +39,9 @@ struct StageConfig {
   FoveaOptions fovea;
   SaliencyOptions saliency;
   TrackingOptions tracking;
-  bool saccade_fallback = false;    // look for salient regions while searching
+  bool saccade_fallback = false;   // look for salient regions while searching
+  bool search_candidates = false;  // propose whole-frame candidates while searching
+  CandidateOptions candidates;
   float predict_max_horizon_s = 0;  // the predictor's lead (0: off)
   PreviewOptions preview;           // PREFIX_PREVIEW (off by default)
   Models models;
@@ -57,8 +61,10 @@ struct Job {
   /// (TrackSet::RecheckAt).
   std::optional<Eigen::Vector3f> recheck_at;
   std::shared_ptr<const StageConfig> config;  // what the frame runs with (set by Recognize)
-  FrameDetections detections;            // what recognition found; after Track, what is published
-  std::vector<Eigen::Vector3f> salient;  // the coarse level's salient regions (saccade fallback)
+  FrameDetections detections;  // what recognition found; after Track, what is published
+  /// Where a search looks next, best first: the frame's candidates (attention.search:
+  /// candidates) or the coarse level's salient regions (the saccade fallback).
+  std::vector<Eigen::Vector3f> salient;
   double track_ms = 0, attention_ms = 0;
   std::string track_events;  // what changed in the tracks, for the fixation's reason
   Fixation next;             // attention's fixation after this frame

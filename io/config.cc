@@ -416,7 +416,8 @@ bool ApplyRecognitionAndFovea(const YAML::Node& node, const std::string& name,
 }  // namespace
 
 bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& base,
-                            std::vector<EvalConfiguration>* out, std::string* error) {
+                            std::vector<EvalConfiguration>* out, std::string* error,
+                            const ExtraSections& extra) {
   out->clear();
   RecognitionConfig defaults = base;
   const auto apply_defaults = [&](const YAML::Node& node) {
@@ -445,6 +446,9 @@ bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& ba
           if (!KeyText(kv.first, entry, path, &key, error)) return false;
           if (key == "recognition" || key == "fovea") {
             sections[key] = kv.second;
+          } else if (const auto it = extra.find(key); it != extra.end()) {
+            if (!ApplySection(kv.second, entry + "." + key, it->second(i).setters, path, error))
+              return false;
           } else if (!ApplyKey(top.setters, key, entry + "." + key, kv.second, path, error)) {
             return false;
           }

@@ -141,8 +141,12 @@ struct EvalConfiguration {
 /// Each entry starts from `base` with the file's defaults applied, then applies its own
 /// sections; strict as LoadRecognitionConfig, errors name the entry
 /// ("configurations[3].fovea.finest_level").
+/// `extra` names further sections an entry may hold (the caller's own options, such as the
+/// attention loop's): for entry i, the keys to apply its section to.
+using ExtraSections = std::map<std::string, std::function<ConfigKeys(std::size_t entry)>>;
 bool LoadEvalConfigurations(const std::string& path, const RecognitionConfig& base,
-                            std::vector<EvalConfiguration>* out, std::string* error);
+                            std::vector<EvalConfiguration>* out, std::string* error,
+                            const ExtraSections& extra = {});
 
 /// One cross-capture case: an object cut by its label out of one labelled capture, searched in
 /// another capture where the same object appears (mOSD labels: object k = labels 10k..10k+9).

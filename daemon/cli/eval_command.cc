@@ -117,6 +117,25 @@ std::optional<int> LoadDatasetScenes(const Args& args, std::optional<float> sphe
   return std::nullopt;
 }
 
+// Every model and scene without colour (scenes that share a capture share its stripped copy):
+// what a depth-only camera gives, for recognition, verification and the candidates alike.
+void StripColour(std::vector<EvalModel>* models, std::vector<Scene>* scenes) {
+  const auto strip = [](Cloud* cloud) {
+    for (PointT& p : *cloud) p.rgba = 0;
+  };
+  for (EvalModel& m : *models) strip(&m.cloud);
+  std::map<const Cloud*, std::shared_ptr<const Cloud>> stripped;
+  for (Scene& s : *scenes) {
+    auto& copy = stripped[s.frame.cloud.get()];
+    if (!copy) {
+      auto c = std::make_shared<Cloud>(*s.frame.cloud);
+      strip(c.get());
+      copy = std::move(c);
+    }
+    s.frame.cloud = copy;
+  }
+}
+
 }  // namespace
 
 int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
@@ -148,6 +167,8 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
       .Value("sweep", "NAME,...", "configurations to sweep the fovea's distance with")
       .Value("reference", "NAME", "the configuration speed-ups are against (default: 10)")
       .Value("repeat", "N", "time each trial N times and keep the median (default: 1)")
+      .Switch("no-colour",
+              "strip the colour from every model and scene (a depth-only camera's view)")
       .Switch("no-plots", "write no PNG plots")
       .Switch("no-overlays", "write no image of the missed and false cases (overlays/)")
       .Value("replot", "DIR",
@@ -181,8 +202,21 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
 
   std::vector<EvalConfiguration> configs;
-  if (!LoadEvalConfigurations(args.Get("configs"), RecognitionConfig{}, &configs, &error))
+  // Each entry may set how protocol (c)'s attention loop searches (saccaded's sections).
+  std::map<std::size_t, SearchOptions> search_of;  // nodes stay put while the file is read
+  const ExtraSections extra = {
+      {"attention", [&](std::size_t i) { return KeysOf(&search_of[i].attention); }},
+      {"candidates", [&](std::size_t i) { return KeysOf(&search_of[i].candidates); }}};
+  if (!LoadEvalConfigurations(args.Get("configs"), RecognitionConfig{}, &configs, &error, extra))
     return fail(error);
+  std::vector<SearchOptions> search(configs.size());
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    if (const auto it = search_of.find(c); it != search_of.end()) search[c] = it->second;
+    std::string why;
+    if (!search[c].attention.IsValid(&why) || !search[c].candidates.IsValid(&why))
+      return fail(args.Get("configs") + ": configurations[" + std::to_string(c) + "] (" +
+                  configs[c].name + "): " + why);
+  }
   std::optional<float> sphere_radius;
   if (args.Has("sphere-radius")) {
     const auto r = Args::ParseNumber(args.Get("sphere-radius"));
@@ -225,6 +259,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
                  LoadDatasetScenes(args, sphere_radius, max_frames, &models, &scenes, err)) {
     return *code;
   }
+  if (args.Has("no-colour")) StripColour(&models, &scenes);
 
   const fs::path dir = args.Get("out", "eval-out");
   std::error_code ec;
@@ -245,7 +280,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     if (!runner.Run(
             configs[c], scenes, sweep ? sweep_offsets.size() : 1,
             [&](std::size_t k, std::size_t i) { return scenes[i].truth_m + sweep_offsets[k]; },
-            &per_offset, sweep ? &acquired[c] : nullptr, &error))
+            &per_offset, sweep ? &acquired[c] : nullptr, &error, search[c]))
       return fail("configuration " + configs[c].name + ": " + error);
     trials[c] = per_offset.front();
     mean_ms[c] = MeanMs(trials[c]);
@@ -274,7 +309,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
                          return acquire ? Eigen::Vector3f(0, 0, 1)
                                         : scenes[i].truth_m + OffObject(i);
                        },
-                       &per, acquire ? &acquisitions : nullptr, &error)) {
+                       &per, acquire ? &acquisitions : nullptr, &error, search[c])) {
           return fail("configuration " + configs[c].name + ": " + error);
         } else {
           run.trials = std::move(per.front());

@@ -56,7 +56,8 @@ Runner::Runner(const std::vector<EvalModel>& models, ParallelFor parallel, int r
 bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
                  std::size_t placements, const FoveaPlacement& fovea,
                  std::vector<std::vector<Trial>>* trials,
-                 std::vector<std::vector<Acquisition>>* acquisitions, std::string* error) const {
+                 std::vector<std::vector<Acquisition>>* acquisitions, std::string* error,
+                 const SearchOptions& search) const {
   trials->assign(placements, {});
   if (acquisitions) acquisitions->assign(placements, {});
   const RecognitionOptions& o = c.config.recognition;
@@ -79,12 +80,28 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
     }
     if (!stock[m] && !described[m]) return false;
   }
+  // Where a given fovea lands (attention's land_on_candidate_m), and what finding it cost.
+  const auto land = [&](const Scene& s, const Eigen::Vector3f& aim, double* ms) {
+    if (search.attention.land_on_candidate_m <= 0 || !described[s.model]) return aim;
+    const auto t0 = std::chrono::steady_clock::now();
+    const ModelDescription& m = *described[s.model];
+    std::vector<Eigen::Vector3f> places;
+    for (const Candidate& c :
+         ProposeCandidates(*s.frame.cloud, s.frame.intrinsics,
+                           SignModel(m.cloud(), m.scale().spacing_m), search.candidates))
+      places.push_back(c.centre_m);
+    const Eigen::Vector3f landed =
+        LandOnCandidate(aim, places, search.attention.land_on_candidate_m);
+    *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return landed;
+  };
   for (std::size_t k = 0; k < placements; ++k) {
     for (std::size_t i = 0; i < scenes.size(); ++i) {
       const Scene& s = scenes[i];
       SceneQuery q;
       q.foveated = c.pipeline == Pipeline::kFoveated;
-      q.fovea_m = fovea(k, i);
+      double landing_ms = 0;
+      q.fovea_m = q.foveated ? land(s, fovea(k, i), &landing_ms) : fovea(k, i);
       q.fovea = c.config.fovea;
       q.intrinsics = s.frame.intrinsics;
       if (is_ppf && ppf_model != s.model) {
@@ -102,7 +119,8 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
             : is_ppf ? RecognizePpfPeer(*ppf, *s.frame.cloud, ppf_options)
                      : Recognize(*described[s.model], *s.frame.cloud, q, o, parallel_);
         Trial t;
-        t.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+        t.ms = landing_ms +
+               std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                    .count();
         t.centres = Centres(r, s);
         t.stats = r.stats;
@@ -118,7 +136,8 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
       std::nth_element(runs.begin(), median, runs.end(),
                        [](const Trial& a, const Trial& b) { return a.ms < b.ms; });
       if (acquisitions && described[s.model])
-        (*acquisitions)[k].push_back(Acquire(*described[s.model], s, q, o, median->centres));
+        (*acquisitions)[k].push_back(
+            Acquire(*described[s.model], s, q, o, search, median->instances));
       median->evidence = evidence;
       (*trials)[k].push_back(std::move(*median));
     }
@@ -161,12 +180,30 @@ CaseEvidence Runner::Evidence(const RecognitionResult& r, const Scene& s,
 }
 
 Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
-                            const RecognitionOptions& o,
-                            const std::vector<Eigen::Vector3f>& first) const {
+                            const RecognitionOptions& o, const SearchOptions& search,
+                            const std::vector<Detection>& first) const {
   constexpr int kMaxFrames = 30;
   Acquisition a;
-  Attention attention(AttentionOptions{}, q.fovea_m);
+  Attention attention(search.attention, q.fovea_m);
   const bool foveated = q.foveated;
+  // The scene is the same every frame: its candidates are proposed once, and their cost is
+  // counted in every frame that searches (saccaded proposes them on each search frame).
+  std::vector<Eigen::Vector3f> places;
+  double candidates_ms = 0;
+  if (search.attention.search == SearchKind::kCandidates) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const ModelSignature signature = SignModel(model.cloud(), model.scale().spacing_m);
+    const std::vector<Candidate> candidates =
+        ProposeCandidates(*s.frame.cloud, s.frame.intrinsics, signature, search.candidates);
+    candidates_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    for (const Candidate& c : candidates) {
+      if (a.candidate_rank < 0 && (c.centre_m - s.truth_m).norm() <= 0.1f)
+        a.candidate_rank = int(places.size());
+      places.push_back(c.centre_m);
+    }
+  }
+  const EvalModel& m = models_[s.model];
   for (int frame = 1; frame <= kMaxFrames; ++frame) {
     const Fixation& f = attention.current();
     const Eigen::Vector3f growth = Eigen::Vector3f::Constant(f.growth_m);
@@ -175,23 +212,30 @@ Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s, Scene
     q.fovea.growth_m = growth;
     q.foveated = foveated && f.mode != AttentionMode::kFullScan;  // past G_max: the whole frame
     q.search_phase = f.SearchPhase();  // as saccaded walks a budgeted search
-    const std::vector<Eigen::Vector3f> centres =
-        as_trial ? first : Centres(Recognize(model, *s.frame.cloud, q, o, parallel_), s);
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<Detection> instances =
+        as_trial ? first : Recognize(model, *s.frame.cloud, q, o, parallel_).instances;
+    a.frame_ms.push_back(
+        candidates_ms +
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     std::vector<Detection> sightings;
-    bool found = false;
-    for (const Eigen::Vector3f& centre : centres) {
-      sightings.emplace_back().centroid_m = centre;
-      sightings.back().model = 0;
-      if ((centre - s.truth_m).norm() <= 0.08f)
-        found = true;
-      else
-        ++a.false_instances;
+    for (const Detection& d : instances) {
+      Detection& seen = sightings.emplace_back();
+      seen.centroid_m = (d.model_to_scene * m.centre.homogeneous()).head<3>();
+      seen.confidence = d.confidence;
+      seen.model = 0;
+      a.false_instances += (seen.centroid_m - s.truth_m).norm() > 0.08f;
     }
-    if (found) {
+    const int before = attention.current().target;
+    const Fixation& next = attention.Update(frame, frame / 30.0, sightings, places);
+    if (next.mode != AttentionMode::kTracking) continue;
+    // Attention follows a target: the truth, or a lock onto a false instance (counted once per
+    // target, or again when a challenge moved it).
+    if ((next.fovea_m - s.truth_m).norm() <= 0.08f) {
       a.frames = frame;
       break;
     }
-    attention.Update(frame, frame / 30.0, sightings);
+    if (next.target != before || next.reason.rfind("challenged", 0) == 0) ++a.false_locks;
   }
   return a;
 }

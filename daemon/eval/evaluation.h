@@ -4,6 +4,8 @@
 // daemon/eval/report.h writes the cross-capture report.
 #pragma once
 
+#include "attention/attention.h"
+#include "core/candidates.h"
 #include "core/eval/evaluation.h"
 #include "core/parallel.h"
 #include "core/recognition.h"
@@ -49,11 +51,23 @@ struct Trial {
   CaseEvidence evidence;  // what the truth says of this run's stages
 };
 
-/// The attention loop's run from one fovea: frames until a detection within 8 cm of the truth
-/// (0: not before it gave up), and the false instances it saw on the way.
+/// The attention loop's run from one fovea: frames until attention locks onto (follows) an
+/// instance within 8 cm of the truth (0: not before it gave up), the locks onto a false
+/// instance before that, the false instances it saw on the way, where the truth ranked among
+/// the frame's candidates, and each frame's search cost (candidates and recognition).
 struct Acquisition {
   int frames = 0;
+  int false_locks = 0;
   int false_instances = 0;
+  int candidate_rank = -1;  // the first candidate within 10 cm of the truth, -1 when none
+  std::vector<double> frame_ms;
+};
+
+/// How the attention loop searches in protocol (c): the attention options and the whole-frame
+/// candidates' (an evaluation configuration's `attention` and `candidates` sections).
+struct SearchOptions {
+  AttentionOptions attention;
+  CandidateOptions candidates;
 };
 
 /// The three protocols of the cross-capture benchmark.
@@ -96,7 +110,8 @@ class Runner {
   /// `error` when the model cannot be described.
   bool Run(const EvalConfiguration& c, const std::vector<Scene>& scenes, std::size_t placements,
            const FoveaPlacement& fovea, std::vector<std::vector<Trial>>* trials,
-           std::vector<std::vector<Acquisition>>* acquisitions, std::string* error) const;
+           std::vector<std::vector<Acquisition>>* acquisitions, std::string* error,
+           const SearchOptions& search = {}) const;
 
  private:
   std::vector<Eigen::Vector3f> Centres(const RecognitionResult& r, const Scene& s) const;
@@ -104,7 +119,8 @@ class Runner {
                         const std::optional<ModelDescription>& model,
                         const RecognitionOptions& given) const;
   Acquisition Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
-                      const RecognitionOptions& o, const std::vector<Eigen::Vector3f>& first) const;
+                      const RecognitionOptions& o, const SearchOptions& search,
+                      const std::vector<Detection>& first) const;
 
   const std::vector<EvalModel>& models_;
   const ParallelFor parallel_;

@@ -68,6 +68,7 @@ struct Summary {
   int cases = 0, false_instances = 0;
   std::vector<double> ms;
   int acquired_in_target = 0, acquired = 0, false_acquisitions = 0;
+  std::vector<double> frame_ms;  // protocol (c): every search frame's cost
   double FalsePerCase() const { return cases ? double(false_instances) / cases : 0; }
   double Recall() const { return feasible ? double(found) / feasible : 0; }
 };
@@ -134,7 +135,8 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
         false_instances = a.false_instances;
         s.acquired_in_target += scenes[i].feasible && found && a.frames <= kAcquireFrames;
         s.acquired += scenes[i].feasible && found;
-        s.false_acquisitions += a.false_instances > 0;
+        s.false_acquisitions += a.false_locks > 0;
+        s.frame_ms.insert(s.frame_ms.end(), a.frame_ms.begin(), a.frame_ms.end());
       }
       s.false_instances += false_instances;
       if (scenes[i].feasible) {
@@ -181,7 +183,10 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
                                              : Percent(s.found, s.feasible);
       std::ostringstream row;
       row << std::fixed << std::setprecision(3) << s.FalsePerCase();
-      if (acquisition) row << " (" << s.false_acquisitions << " cases saw one)";
+      if (acquisition)
+        row << " seen; " << s.false_acquisitions << " of " << s.cases
+            << " cases locked onto a false one first; frame p99 " << std::setprecision(1)
+            << Quantile(s.frame_ms, 0.99) << " ms";
       md << "| " << configs[c].name << " | " << ProtocolName(runs[c][p].protocol) << " | " << recall
          << " | " << (acquisition ? "-" : Percent(s.pose_found, s.feasible)) << " | "
          << s.infeasible_found << "/" << s.infeasible << " | " << row.str() << " | "
@@ -325,7 +330,8 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
   std::ofstream csv(dir / "cases.csv");
   csv << "configuration,protocol,case,identity,category,feasible,found,pose_found,"
          "false_instances,ms,translation_err_m,rotation_err_deg,adds_m,diagonal_m,confidence,"
-         "stage,correct_correspondences,hypotheses,acquire_frames,acquire_false\n";
+         "stage,correct_correspondences,hypotheses,acquire_frames,acquire_false,false_seen,"
+         "candidate_rank,frame_ms_max\n";
   for (std::size_t c = 0; c < runs.size(); ++c)
     for (std::size_t p = 0; p < runs[c].size(); ++p)
       for (std::size_t i = 0; i < scenes.size(); ++i) {
@@ -340,10 +346,15 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
             << r.confidence << ','
             << CaseStageName(DiagnoseCase(t.evidence, s.truth_pose.has_value())) << ','
             << t.evidence.correct_correspondences << ',' << t.stats.hypotheses << ',';
-        if (run.protocol == Protocol::kAcquisition)
-          csv << run.acquisitions[i].frames << ',' << run.acquisitions[i].false_instances;
-        else
-          csv << ',';
+        if (run.protocol == Protocol::kAcquisition) {
+          const Acquisition& a = run.acquisitions[i];
+          csv << a.frames << ',' << a.false_locks << ',' << a.false_instances << ','
+              << a.candidate_rank << ','
+              << (a.frame_ms.empty() ? 0.0
+                                     : *std::max_element(a.frame_ms.begin(), a.frame_ms.end()));
+        } else {
+          csv << ",,,,";
+        }
         csv << "\n";
       }
 }

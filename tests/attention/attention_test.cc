@@ -71,6 +71,7 @@ TEST(Attention, SaccadeFallbackVisitsSalientRegionsOnceEachMostSalientFirst) {
   o.growth_step = 0.5f;
   o.growth_max_m = 0.5f;
   o.fallback = LostFallback::kSaccade;
+  o.search = SearchKind::kGrow;  // G grows first: the salient regions are the fallback's
   const Eigen::Vector3f start(0, 0, 1);
   Attention a(o, start);
   const std::vector<Eigen::Vector3f> salient = {
@@ -92,6 +93,95 @@ TEST(Attention, SaccadeFallbackVisitsSalientRegionsOnceEachMostSalientFirst) {
   const Fixation found = a.Update(4, 0.0, {At(-0.4f, 0, 1)}, salient);
   EXPECT_EQ(found.mode, AttentionMode::kTracking);
   EXPECT_TRUE(found.fovea_m.isApprox(Eigen::Vector3f(-0.4f, 0, 1)));
+}
+
+// Issue 34's search: with no target known, the fovea visits the frame's candidates best first
+// (once each, at G_min), follows a sighting at once only at acquire_confidence, and once the
+// candidates are visited follows the most confident weaker sighting it saw; then G grows.
+Detection Seen(float x, float confidence) {
+  Detection d = At(x, 0, 1);
+  d.confidence = confidence;
+  return d;
+}
+
+TEST(Attention, ASearchVisitsCandidatesBestFirstThenFollowsTheMostConfidentSighting) {
+  AttentionOptions o;
+  o.max_candidate_visits = 3;
+  Attention a(o, Eigen::Vector3f(0, 0, 1));
+  const std::vector<Eigen::Vector3f> places = {
+      Eigen::Vector3f(0.4f, 0, 1), Eigen::Vector3f(-0.4f, 0, 1), Eigen::Vector3f(0.8f, 0, 1),
+      Eigen::Vector3f(-0.8f, 0, 1)};
+  Fixation f = a.Update(1, 0.0, {}, places);
+  EXPECT_EQ(f.reason, "candidate");
+  EXPECT_EQ(f.mode, AttentionMode::kSearching);
+  EXPECT_TRUE(f.fovea_m.isApprox(places[0]));
+  EXPECT_EQ(f.growth_m, 0.0f);
+  f = a.Update(2, 0.1, {Seen(0.4f, 0.6f)}, places);  // too weak to follow at once
+  EXPECT_EQ(f.reason, "candidate");
+  EXPECT_TRUE(f.fovea_m.isApprox(places[1]));
+  f = a.Update(3, 0.2, {Seen(-0.4f, 0.8f)}, places);  // weaker than the bar, but the best yet
+  EXPECT_TRUE(f.fovea_m.isApprox(places[2]));
+  f = a.Update(4, 0.3, {Seen(0.8f, 0.5f)}, places);  // three visited: follow the best seen
+  EXPECT_EQ(f.reason, "tentative");
+  EXPECT_EQ(f.mode, AttentionMode::kTracking);
+  EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(-0.4f, 0, 1)));
+  f = a.Update(5, 0.4, {Seen(-0.41f, 0.8f)}, places);
+  EXPECT_EQ(f.reason, "detected");
+  EXPECT_EQ(f.mode, AttentionMode::kTracking);
+}
+
+TEST(Attention, AConfidentSightingIsFollowedAtOnceAndAWeakOneNot) {
+  const std::vector<Eigen::Vector3f> places = {Eigen::Vector3f(0.4f, 0, 1)};
+  Attention a(AttentionOptions{}, Eigen::Vector3f(0, 0, 1));
+  EXPECT_EQ(a.Update(1, 0.0, {Seen(0.1f, 0.89f)}, places).reason, "candidate");
+  const Fixation f = a.Update(2, 0.1, {Seen(0.1f, 0.89f), Seen(0.4f, 0.95f)}, places);
+  EXPECT_EQ(f.reason, "detected");
+  EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0.4f, 0, 1)));
+  // Unverified sightings (no confidence) and a bar of 0 follow the first sighting, as the paper.
+  Attention paper(AttentionOptions{}, Eigen::Vector3f(0, 0, 1));
+  EXPECT_EQ(paper.Update(1, 0.0, {At(0.1f, 0, 1)}, places).reason, "detected");
+}
+
+TEST(Attention, NoCandidatesOrSearchGrowGrowsGAsThePaper) {
+  AttentionOptions o;
+  Attention none(o, Eigen::Vector3f(0, 0, 1));
+  EXPECT_EQ(none.Update(1, 0.0, {}, {}).reason, "grow");
+  o.search = SearchKind::kGrow;
+  Attention grow(o, Eigen::Vector3f(0, 0, 1));
+  const Fixation f = grow.Update(1, 0.0, {}, {Eigen::Vector3f(0.4f, 0, 1)});
+  EXPECT_EQ(f.reason, "grow");
+  EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0, 0, 1)));
+}
+
+TEST(Attention, ALostTargetIsSearchedWhereItWasNotAtTheCandidates) {
+  Attention a(AttentionOptions{}, Eigen::Vector3f(0, 0, 1));
+  a.Update(1, 0.0, {Seen(0.1f, 0.95f)});
+  const Fixation f = a.Update(2, 0.1, {}, {Eigen::Vector3f(0.5f, 0, 1)});
+  EXPECT_EQ(f.reason, "lost");
+  EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0.1f, 0, 1)));
+  EXPECT_GT(f.growth_m, 0.0f);
+}
+
+TEST(Attention, AClearlyMoreConfidentSightingTakesTheTargetOver) {
+  Attention a(AttentionOptions{}, Eigen::Vector3f(0, 0, 1));
+  a.Update(1, 0.0, {Seen(0.1f, 0.9f)});
+  // Not clearly more confident (0.95 < 0.9 + 0.15): the nearer sighting stays the target.
+  Fixation f = a.Update(2, 0.1, {Seen(0.1f, 0.9f), Seen(0.5f, 0.95f)});
+  EXPECT_EQ(f.reason, "detected");
+  EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0.1f, 0, 1)));
+  a.Update(3, 0.2, {Seen(0.1f, 0.8f)});
+  f = a.Update(4, 0.3, {Seen(0.1f, 0.8f), Seen(0.5f, 0.96f)});
+  EXPECT_EQ(f.reason, "challenged");
+  EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0.5f, 0, 1)));
+}
+
+TEST(Attention, AnAimedFixationLandsOnTheNearestCandidateWithinReach) {
+  const std::vector<Eigen::Vector3f> places = {Eigen::Vector3f(0.3f, 0, 1),
+                                               Eigen::Vector3f(0.12f, 0, 1)};
+  const Eigen::Vector3f aim(0, 0, 1);
+  EXPECT_TRUE(LandOnCandidate(aim, places, 0.2f).isApprox(places[1]));
+  EXPECT_TRUE(LandOnCandidate(aim, places, 0.1f).isApprox(aim));
+  EXPECT_TRUE(LandOnCandidate(aim, {}, 1.0f).isApprox(aim));
 }
 
 TEST(Attention, AlternatesBetweenInstancesAndModelsOnePerFrame) {

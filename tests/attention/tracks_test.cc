@@ -62,6 +62,35 @@ const Demo& TheDemo() {
   return d;
 }
 
+// Acquisition on confidence (issue 34): an instance below tracking.min_track_confidence starts
+// no track and is published as recognition found it, unless attention chose it (the best of a
+// search that found nothing more confident).
+TEST(TrackSet, AFirstTrackStartsOnlyFromAConfidentOrAttendedInstance) {
+  const Demo& d = TheDemo();
+  Detection weak = d.Found();
+  weak.confidence = 0.7f;
+  TrackSet tracks(TrackingOptions{});
+  std::string events;
+  std::vector<Detection> out =
+      tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {weak}, &events);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kNone);
+  EXPECT_EQ(out[0].track_id, -1);
+  EXPECT_EQ(tracks.size(), 0u);
+  EXPECT_EQ(events, "");
+  TrackFrame attended = d.Frame(1, d.demo.scene.cloud, true);
+  attended.attended = true;
+  out = tracks.Update(attended, d.Models(), {weak}, &events);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
+  EXPECT_EQ(events, "track 0 found (confidence 0.70, the best of a search)");
+  TrackingOptions bad;
+  bad.min_track_confidence = 1.5f;
+  std::string error;
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_NE(error.find("min_track_confidence"), std::string::npos);
+}
+
 TEST(TrackSet, AFoundObjectIsHeldByTrackingAloneUntilItsRecheck) {
   const Demo& d = TheDemo();
   TrackingOptions o;
@@ -75,7 +104,7 @@ TEST(TrackSet, AFoundObjectIsHeldByTrackingAloneUntilItsRecheck) {
   EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
   EXPECT_EQ(out[0].track_id, 0);
   EXPECT_FLOAT_EQ(out[0].confidence, 0.95f);  // recognition's, for what it found
-  EXPECT_EQ(events, "track 0 found");
+  EXPECT_EQ(events, "track 0 found (confidence 0.95)");
   // Tentative: the next frame re-checks it, and recognition confirms it.
   EXPECT_TRUE(tracks.NeedsRecognition());
   out = tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, &events);

@@ -1,0 +1,87 @@
+// Where in the whole frame the model may be, before any descriptor is computed: the table plane
+// is removed from a coarse view of the frame, and what stands above it is scored in model-sized
+// windows by how well the amount of it matches what the model would cover at that depth, and by
+// how much of it has the model's colours (histogram back-projection, Swain and Ballard 1991).
+// The attention loop sends the fovea to the best candidates first; recognition and verification
+// at each decide. Pure: an organized cloud in, ranked points out.
+#pragma once
+
+#include "core/camera.h"
+#include "core/colour.h"
+#include "core/schema.h"
+#include "core/types.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace saccade {
+
+struct CandidateOptions {
+  int stride_px = 4;                // the coarse view: every stride-th pixel of every stride-th row
+  float z_max_m = 3.0f;             // points farther than this are left out
+  float plane_distance_m = 0.015f;  // a point this near the table plane is the table
+  /// The largest plane is the table when it holds at least this share of the coarse points;
+  /// otherwise nothing is removed.
+  float min_plane_fraction = 0.1f;
+  int plane_iterations = 200;  // RANSAC hypotheses
+  int max_candidates = 12;
+  /// Colour's share of a candidate's score (0: geometry alone; used only when the model and the
+  /// frame both have colour).
+  float colour_weight = 0.75f;
+  std::uint32_t seed = 1;  // RANSAC's: the same frame gives the same candidates
+
+  bool IsValid(std::string* error) const;
+  bool operator==(const CandidateOptions& o) const { return SameFields(*this, o); }
+  /// The keys of the `candidates` section (core/schema.h).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("stride_px", &stride_px);
+    a->Visit("z_max_m", &z_max_m);
+    a->Visit("plane_distance_m", &plane_distance_m);
+    a->Visit("min_plane_fraction", &min_plane_fraction);
+    a->Visit("plane_iterations", &plane_iterations);
+    a->Visit("max_candidates", &max_candidates);
+    a->Visit("colour_weight", &colour_weight);
+  }
+};
+
+/// What the proposer needs of a model, measured once from its cloud.
+struct ModelSignature {
+  float radius_m = 0;  // half the bounding box's diagonal
+  /// The area the sensor sees of it (its points times the square of their median spacing):
+  /// what a window at depth z should hold, in pixels, is area * (f / z)^2.
+  float seen_area_m2 = 0;
+  ColourHistogram colour{};  // normalized; meaningful when `coloured`
+  bool coloured = false;
+};
+
+/// The signature of a model cloud whose median point spacing is `spacing_m` (ModelScale).
+ModelSignature SignModel(const Cloud& model, float spacing_m);
+
+/// One place the model may be, camera frame.
+struct Candidate {
+  Eigen::Vector3f centre_m = Eigen::Vector3f::Zero();  // the window's weighted centroid
+  float score = 0;  // in [0, 1]: fill x ((1 - w) + w x colour), w = colour_weight
+  /// The window's points against what the model would cover there: the smaller of the two
+  /// ratios, 1 when they are equal.
+  float fill = 0;
+  float colour = 1;  // the share of its points whose colour the model has (1 without colour)
+  int points = 0;    // coarse points in the window
+};
+
+struct CandidateStats {
+  int coarse_points = 0;  // finite coarse points within z_max
+  int above_plane = 0;    // of those, off the table plane on the camera's side
+  bool plane_found = false;
+};
+
+/// The candidates of an organized frame, best first, at most max_candidates and no two closer
+/// than the model's radius. Empty when the cloud is not organized or nothing stands out.
+/// Preconditions: options.IsValid(); model.radius_m > 0.
+std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraIntrinsics& intrinsics,
+                                         const ModelSignature& model,
+                                         const CandidateOptions& options,
+                                         CandidateStats* stats = nullptr);
+
+}  // namespace saccade

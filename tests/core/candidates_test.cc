@@ -1,0 +1,105 @@
+// Whole-frame candidates: the target on a cluttered table ranks first, colour tells two
+// like-shaped objects apart, and degenerate frames give no candidate.
+#include "core/candidates.h"
+#include "core/model.h"
+#include "core/sim/scenario.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+namespace saccade {
+namespace {
+
+ModelSignature TargetSignature(const Cloud& model) {
+  return SignModel(model, MeasureModel(model).spacing_m);
+}
+
+// Depth alone cannot tell the target from clutter of its size (the scene's largest box is
+// 16 x 12 x 16 cm, the target 14 x 14 x 10 cm): it is among the candidates, and every candidate
+// stands on the table, none is the table.
+TEST(Candidates, TheTargetAmongClutterIsACandidateAndTheTableIsNot) {
+  const Cloud model = SyntheticTargetModel(7);
+  for (std::uint32_t seed : {1u, 2u, 3u, 4u}) {
+    Scenario s = *ScenarioPreset("static");
+    s.seed = seed;
+    s.target_motion.start_xz_m = {0.12f * static_cast<float>(seed) - 0.3f, 1.0f};
+    const ScenarioFrame frame = RenderScenarioFrame(s, 0, CameraIntrinsics{});
+    CandidateStats stats;
+    const auto candidates = ProposeCandidates(frame.rendered.cloud, CameraIntrinsics{},
+                                              TargetSignature(model), CandidateOptions{}, &stats);
+    EXPECT_TRUE(stats.plane_found);
+    EXPECT_LT(stats.above_plane, stats.coarse_points / 3) << "the table is removed";
+    ASSERT_FALSE(candidates.empty()) << "seed " << seed;
+    EXPECT_LE(candidates.size(), 4u) << "the target and three pieces of clutter";
+    EXPECT_TRUE(std::any_of(
+        candidates.begin(), candidates.end(),
+        [&](const Candidate& c) { return (c.centre_m - frame.truth.centroid_m).norm() < 0.05f; }))
+        << "seed " << seed;
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      EXPECT_LT(candidates[i].centre_m.y(), s.table_height_m - 0.02f) << "above the table (y down)";
+      if (i > 0) {
+        EXPECT_LE(candidates[i].score, candidates[i - 1].score);
+      }
+    }
+  }
+}
+
+// Two copies of the target, one painted red and one green: a red model finds the red one first,
+// a green model the green one, and without colour both are proposed.
+TEST(Candidates, ColourTellsLikeShapesApart) {
+  const float table = 0.25f;
+  std::vector<SceneObject> objects(2);
+  objects[0] = {TargetShape(), PoseOnTable(-0.2f, 1.0f, 0.3f, table), 1};
+  objects[1] = {TargetShape(), PoseOnTable(0.2f, 1.0f, 0.3f, table), 2};
+  RenderedFrame frame = RenderScene(objects, table, CameraIntrinsics{}, KinectNoise{}, 5);
+  for (std::size_t i = 0; i < frame.cloud.size(); ++i) {
+    PointT& p = frame.cloud[i];
+    const std::uint32_t l = frame.label[i];
+    p.r = l == 1 ? 200 : 120, p.g = l == 2 ? 200 : 120, p.b = 120;
+  }
+  Cloud red = CutModel(frame, 1, objects[0].pose);
+  Cloud green = CutModel(frame, 2, objects[1].pose);
+  const Eigen::Vector3f at[2] = {objects[0].pose.translation(), objects[1].pose.translation()};
+  const auto first = [&](const Cloud& model, const CandidateOptions& o) {
+    const auto c = ProposeCandidates(frame.cloud, CameraIntrinsics{}, TargetSignature(model), o);
+    EXPECT_GE(c.size(), 2u);
+    return c.empty() ? Eigen::Vector3f(0, 0, 0) : c.front().centre_m;
+  };
+  EXPECT_LT((first(red, {}) - at[0]).norm(), 0.1f);
+  EXPECT_LT((first(green, {}) - at[1]).norm(), 0.1f);
+  CandidateOptions geometry;
+  geometry.colour_weight = 0;
+  const auto both =
+      ProposeCandidates(frame.cloud, CameraIntrinsics{}, TargetSignature(red), geometry);
+  ASSERT_GE(both.size(), 2u);
+  for (const Eigen::Vector3f& object : at)
+    EXPECT_TRUE((both[0].centre_m - object).norm() < 0.1f ||
+                (both[1].centre_m - object).norm() < 0.1f);
+}
+
+TEST(Candidates, NothingFromAnUnorganizedOrEmptyFrame) {
+  const ModelSignature model = TargetSignature(SyntheticTargetModel(7));
+  Cloud flat;
+  flat.push_back(PointT{});
+  EXPECT_TRUE(ProposeCandidates(flat, CameraIntrinsics{}, model, {}).empty());
+  Cloud holes(64, 48);
+  for (PointT& p : holes) p.x = p.y = p.z = NAN;
+  EXPECT_TRUE(ProposeCandidates(holes, CameraIntrinsics{}, model, {}).empty());
+}
+
+TEST(Candidates, OptionsAreValidated) {
+  std::string error;
+  CandidateOptions o;
+  EXPECT_TRUE(o.IsValid(&error)) << error;
+  o.stride_px = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("stride_px"), std::string::npos);
+  o = {};
+  o.colour_weight = 1.5f;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("colour_weight"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace saccade
