@@ -25,6 +25,9 @@ bool AttentionOptions::IsValid(std::string* error) const {
     return Fail(error, "max_candidate_visits must be in [0, 1000]");
   if (!finite(acquire_confidence) || acquire_confidence < 0 || acquire_confidence > 1)
     return Fail(error, "acquire_confidence must be in [0, 1]");
+  if (!finite(tentative_min_confidence) || tentative_min_confidence < 0 ||
+      tentative_min_confidence > 1)
+    return Fail(error, "tentative_min_confidence must be in [0, 1]");
   if (!finite(challenge_margin) || challenge_margin < 0 || challenge_margin > 1)
     return Fail(error, "challenge_margin must be in [0, 1]");
   if (!finite(land_on_candidate_m) || land_on_candidate_m < 0)
@@ -275,7 +278,7 @@ void Attention::Lost(const std::vector<Eigen::Vector3f>& places, Fixation* next)
   const bool growing = current_.growth_m > options_.growth_min_m || saccading_;
   if (options_.search == SearchKind::kCandidates && !growing && targets_.empty()) {
     if (VisitCandidate(places, next)) return;
-    if (has_tentative_) {
+    if (has_tentative_ && tentative_.confidence >= options_.tentative_min_confidence) {
       Target t;
       t.id = next_id_++;
       t.model = tentative_.model;

@@ -45,6 +45,9 @@ struct AttentionOptions {
   /// of the search is remembered and followed once the candidates are visited. 0: follow the
   /// first sighting, as the paper does.
   float acquire_confidence = 0.9f;
+  /// The remembered sighting is followed only at this confidence or above; below it the search
+  /// goes on (G grows) rather than lock onto the best of poor sightings.
+  float tentative_min_confidence = 0.0f;
   /// A fixation given from outside (a command, the initial fovea) lands on the nearest
   /// candidate within this distance, as a saccade lands on the object near where it was
   /// aimed. 0: it stays where it was given.
@@ -81,6 +84,7 @@ struct AttentionOptions {
               {{"candidates", SearchKind::kCandidates}, {"grow", SearchKind::kGrow}});
     a->Visit("max_candidate_visits", &max_candidate_visits);
     a->Visit("acquire_confidence", &acquire_confidence);
+    a->Visit("tentative_min_confidence", &tentative_min_confidence);
     a->Visit("challenge_margin", &challenge_margin);
     a->Visit("land_on_candidate_m", &land_on_candidate_m);
     a->Visit("max_targets", &max_targets);

@@ -229,6 +229,7 @@ Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s, Scene
     const int before = attention.current().target;
     const Fixation& next = attention.Update(frame, frame / 30.0, sightings, places);
     if (next.mode != AttentionMode::kTracking) continue;
+    if (a.first_lock_frame == 0) a.first_lock_frame = frame, a.first_lock_why = next.reason;
     // Attention follows a target: the truth, or a lock onto a false instance (counted once per
     // target, or again when a challenge moved it).
     if ((next.fovea_m - s.truth_m).norm() <= 0.08f) {

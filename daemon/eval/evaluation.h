@@ -59,7 +59,9 @@ struct Acquisition {
   int frames = 0;
   int false_locks = 0;
   int false_instances = 0;
-  int candidate_rank = -1;  // the first candidate within 10 cm of the truth, -1 when none
+  int candidate_rank = -1;     // the first candidate within 10 cm of the truth, -1 when none
+  int first_lock_frame = 0;    // the frame attention first followed a target (0: never)
+  std::string first_lock_why;  // and why: detected, tentative, challenged
   std::vector<double> frame_ms;
 };
 

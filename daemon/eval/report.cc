@@ -331,7 +331,7 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
   csv << "configuration,protocol,case,identity,category,feasible,found,pose_found,"
          "false_instances,ms,translation_err_m,rotation_err_deg,adds_m,diagonal_m,confidence,"
          "stage,correct_correspondences,hypotheses,acquire_frames,acquire_false,false_seen,"
-         "candidate_rank,frame_ms_max\n";
+         "candidate_rank,frame_ms_max,first_lock_frame,first_lock_why\n";
   for (std::size_t c = 0; c < runs.size(); ++c)
     for (std::size_t p = 0; p < runs[c].size(); ++p)
       for (std::size_t i = 0; i < scenes.size(); ++i) {
@@ -351,9 +351,10 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
           csv << a.frames << ',' << a.false_locks << ',' << a.false_instances << ','
               << a.candidate_rank << ','
               << (a.frame_ms.empty() ? 0.0
-                                     : *std::max_element(a.frame_ms.begin(), a.frame_ms.end()));
+                                     : *std::max_element(a.frame_ms.begin(), a.frame_ms.end()))
+              << ',' << a.first_lock_frame << ',' << a.first_lock_why;
         } else {
-          csv << ",,,,";
+          csv << ",,,,,,";
         }
         csv << "\n";
       }

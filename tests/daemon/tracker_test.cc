@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,10 +44,12 @@ struct Rig {
     Frame f;
     std::string error;
     if (frames->Next(&f, &error) != FrameSource::Status::kFrame) return false;
+    truths.push_back(f.truth);
     tracker->Process(std::move(f));
     return true;
   }
   std::unique_ptr<FrameSource> frames;
+  std::vector<std::optional<GroundTruth>> truths;  // of each frame fed
   MemoryBus* bus = nullptr;
   std::unique_ptr<Tracker> tracker;
 };
@@ -77,6 +80,41 @@ TEST(Tracker, FindsTheStillTargetAndFollowsItFrameByFrame) {
   ASSERT_FALSE(last.frame.instances.empty());
   EXPECT_EQ(last.frame.instances[0].model, 0);
   EXPECT_TRUE(last.fixation.fovea_m.isApprox(last.frame.instances[0].centroid_m, 1e-4f));
+}
+
+// Issue 34: a cold start with the fovea nowhere near anything (2.5 m away, off to the side).
+// The search visits the frame's whole-frame candidates instead of growing G from there, and
+// the first track it starts is on the target, within a few frames; the search's frames say
+// "candidate" in their reason.
+TEST(Tracker, AColdStartVisitsCandidatesAndItsFirstTrackIsTheTarget) {
+  DaemonSettings s = DemoSettings();
+  s.source.spec = "synthetic:static?frames=10&seed=3&rate=0";
+  s.initial_fovea_m = Eigen::Vector3f(0.8f, -0.4f, 2.5f);
+  Rig rig(s);
+  ASSERT_TRUE(rig.tracker);
+  while (rig.Step()) {
+  }
+  const auto published = rig.bus->Frames();
+  ASSERT_EQ(published.size(), 10u);
+  ASSERT_EQ(rig.truths.size(), 10u);
+  int visits = 0, first_held = -1;
+  for (std::size_t i = 0; i < published.size(); ++i) {
+    const auto& [frame, fixation] = published[i];
+    visits += fixation.reason.rfind("candidate", 0) == 0;
+    for (const Detection& d : frame.instances) {
+      if (d.track_state != TrackState::kTracking && d.track_state != TrackState::kReacquired)
+        continue;
+      if (first_held < 0) first_held = static_cast<int>(i);
+      ASSERT_TRUE(rig.truths[i]);
+      const Eigen::Vector3f in_model = Eigen::Isometry3f(d.model_to_scene).inverse() * d.centroid_m;
+      EXPECT_LT((d.centroid_m - rig.truths[i]->target_pose * in_model).norm(), 0.03f)
+          << "frame " << i << ": a track on something else";
+    }
+  }
+  EXPECT_GE(visits, 1);
+  EXPECT_GE(first_held, 1);
+  EXPECT_LE(first_held, 6);
+  EXPECT_EQ(published.back().fixation.mode, AttentionMode::kTracking);
 }
 
 // The preview (on in the demo's config) is made from the frame it describes, at most rate_hz
