@@ -32,6 +32,7 @@ bool AttentionOptions::IsValid(std::string* error) const {
     return Fail(error, "challenge_margin must be in [0, 1]");
   if (!finite(land_on_candidate_m) || land_on_candidate_m < 0)
     return Fail(error, "land_on_candidate_m must be >= 0");
+  if (!finite(land_stay_m) || land_stay_m < 0) return Fail(error, "land_stay_m must be >= 0");
   if (max_targets < 1) return Fail(error, "max_targets must be >= 1");
   if (!finite(same_target_m) || same_target_m <= 0) return Fail(error, "same_target_m must be > 0");
   if (!finite(predict_max_horizon_s) || predict_max_horizon_s < 0)
@@ -42,12 +43,13 @@ bool AttentionOptions::IsValid(std::string* error) const {
 }
 
 Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
-                                const std::vector<Eigen::Vector3f>& places, float reach_m) {
+                                const std::vector<Eigen::Vector3f>& places, float reach_m,
+                                float stay_m) {
   Eigen::Vector3f landed = aim_m;
   float best = reach_m;
   for (const Eigen::Vector3f& p : places)
     if (const float d = (p - aim_m).norm(); d <= best) best = d, landed = p;
-  return landed;
+  return best <= stay_m ? aim_m : landed;
 }
 
 Eigen::Vector3f Attention::Target::PredictedAt(double time_s) const {
@@ -75,6 +77,7 @@ void Attention::Reset(const Eigen::Vector3f& fovea_m, const std::string& reason)
   saccading_ = false;
   candidate_visits_ = 0;
   has_tentative_ = false;
+  land_pending_ = true;
 }
 
 void Attention::SetOptions(const AttentionOptions& options) {
@@ -202,6 +205,7 @@ void Attention::Follow(const Target& target, double time_s, const char* reason, 
   saccading_ = false;
   candidate_visits_ = 0;
   has_tentative_ = false;
+  land_pending_ = false;
   next->fovea_m = target.PredictedAt(time_s);
   next->velocity_mps = target.velocity_mps;
   next->growth_m = options_.growth_min_m;
@@ -277,6 +281,21 @@ void Attention::Lost(const std::vector<Eigen::Vector3f>& places, Fixation* next)
   // was last seen, as the paper does: it is likeliest to come back there.
   const bool growing = current_.growth_m > options_.growth_min_m || saccading_;
   if (options_.search == SearchKind::kCandidates && !growing && targets_.empty()) {
+    // A fovea given from outside (the initial one, a command) first lands on the object near it.
+    if (land_pending_ && options_.land_on_candidate_m > 0 && !places.empty()) {
+      land_pending_ = false;
+      const Eigen::Vector3f landed = LandOnCandidate(
+          current_.fovea_m, places, options_.land_on_candidate_m, options_.land_stay_m);
+      if (landed != current_.fovea_m) {
+        visited_.assign(1, current_.fovea_m);
+        ++candidate_visits_;
+        next->fovea_m = landed;
+        next->growth_m = options_.growth_min_m;
+        next->mode = AttentionMode::kSearching;
+        next->reason = "landed";
+        return;
+      }
+    }
     if (VisitCandidate(places, next)) return;
     if (has_tentative_ && tentative_.confidence >= options_.tentative_min_confidence) {
       Target t;

@@ -47,11 +47,13 @@ struct AttentionOptions {
   float acquire_confidence = 0.9f;
   /// The remembered sighting is followed only at this confidence or above; below it the search
   /// goes on (G grows) rather than lock onto the best of poor sightings.
-  float tentative_min_confidence = 0.0f;
+  float tentative_min_confidence = 0.7f;
   /// A fixation given from outside (a command, the initial fovea) lands on the nearest
   /// candidate within this distance, as a saccade lands on the object near where it was
   /// aimed. 0: it stays where it was given.
-  float land_on_candidate_m = 0.0f;
+  float land_on_candidate_m = 0.25f;
+  /// ...unless a candidate lies this near the aim: the fixation is on an object already.
+  float land_stay_m = 0.08f;
   /// A followed target gives way to a sighting of its model elsewhere that is at least
   /// acquire_confidence and this much more confident than the target's own last sighting.
   float challenge_margin = 0.15f;
@@ -87,6 +89,7 @@ struct AttentionOptions {
     a->Visit("tentative_min_confidence", &tentative_min_confidence);
     a->Visit("challenge_margin", &challenge_margin);
     a->Visit("land_on_candidate_m", &land_on_candidate_m);
+    a->Visit("land_stay_m", &land_stay_m);
     a->Visit("max_targets", &max_targets);
     a->Visit("same_target_m", &same_target_m);
     a->Visit("predict", &predict);
@@ -96,9 +99,10 @@ struct AttentionOptions {
 };
 
 /// Where a fixation aimed at `aim_m` lands: the nearest of `places` within `reach_m`, or the aim
-/// itself when none is that near.
+/// itself when none is that near or one is within `stay_m` of it (it is on an object already).
 Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
-                                const std::vector<Eigen::Vector3f>& places, float reach_m);
+                                const std::vector<Eigen::Vector3f>& places, float reach_m,
+                                float stay_m = 0);
 
 /// Serial state machine; call Update once per frame, in frame order. Not thread-safe.
 class Attention {
@@ -147,7 +151,9 @@ class Attention {
   /// This search's candidate visits, and its most confident sighting below acquire_confidence.
   int candidate_visits_ = 0;
   bool has_tentative_ = false;
-  bool challenged_ = false;  // this frame's sighting of the followed target took it elsewhere
+  bool challenged_ = false;
+  bool land_pending_ = false;  // the fovea was given from outside: land it on a candidate  // this
+                               // frame's sighting of the followed target took it elsewhere
   Detection tentative_;
 };
 

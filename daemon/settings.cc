@@ -18,6 +18,7 @@ DaemonSettings PaperDefaults() {
   s.fovea.inner_keypoint_radius_m = 0.02f;
   s.attention.search = SearchKind::kGrow;  // §3.4: G grows from the last fixation
   s.attention.acquire_confidence = 0;      // and the first instance found is followed
+  s.attention.land_on_candidate_m = 0;     // where it was aimed
   return s;
 }
 

@@ -90,8 +90,8 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
          ProposeCandidates(*s.frame.cloud, s.frame.intrinsics,
                            SignModel(m.cloud(), m.scale().spacing_m), search.candidates))
       places.push_back(c.centre_m);
-    const Eigen::Vector3f landed =
-        LandOnCandidate(aim, places, search.attention.land_on_candidate_m);
+    const Eigen::Vector3f landed = LandOnCandidate(
+        aim, places, search.attention.land_on_candidate_m, search.attention.land_stay_m);
     *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return landed;
   };

@@ -182,6 +182,25 @@ TEST(Attention, AnAimedFixationLandsOnTheNearestCandidateWithinReach) {
   EXPECT_TRUE(LandOnCandidate(aim, places, 0.2f).isApprox(places[1]));
   EXPECT_TRUE(LandOnCandidate(aim, places, 0.1f).isApprox(aim));
   EXPECT_TRUE(LandOnCandidate(aim, {}, 1.0f).isApprox(aim));
+  // One already this near: the aim is on an object, and stays.
+  EXPECT_TRUE(LandOnCandidate(aim, places, 0.2f, 0.15f).isApprox(aim));
+}
+
+TEST(Attention, AGivenFoveaLandsOnTheNearestCandidateFirst) {
+  AttentionOptions o;
+  o.land_on_candidate_m = 0.25f;
+  o.land_stay_m = 0;
+  const std::vector<Eigen::Vector3f> places = {Eigen::Vector3f(0.5f, 0, 1),
+                                               Eigen::Vector3f(0.1f, 0, 1.1f)};
+  Attention a(o, Eigen::Vector3f(0, 0, 1));
+  Fixation f = a.Update(1, 0.0, {}, places);
+  EXPECT_EQ(f.reason, "landed");
+  EXPECT_TRUE(f.fovea_m.isApprox(places[1]));
+  f = a.Update(2, 0.1, {}, places);  // then the candidates, best first
+  EXPECT_EQ(f.reason, "candidate");
+  EXPECT_TRUE(f.fovea_m.isApprox(places[0]));
+  a.Reset(Eigen::Vector3f(0.45f, 0, 1), "command");
+  EXPECT_TRUE(a.Update(3, 0.2, {}, places).fovea_m.isApprox(places[0]));
 }
 
 TEST(Attention, AlternatesBetweenInstancesAndModelsOnePerFrame) {
