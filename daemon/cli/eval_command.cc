@@ -169,6 +169,8 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
       .Value("repeat", "N", "time each trial N times and keep the median (default: 1)")
       .Switch("no-colour",
               "strip the colour from every model and scene (a depth-only camera's view)")
+      .Switch("texture",
+              "with --cases: also measure each instance's texture support (instances.csv)")
       .Switch("no-plots", "write no PNG plots")
       .Switch("no-overlays", "write no image of the missed and false cases (overlays/)")
       .Value("replot", "DIR",
@@ -266,6 +268,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   fs::create_directories(dir, ec);
   if (ec) return fail(dir.string() + ": cannot create it (" + ec.message() + ")");
   Runner runner(models, MakeTbbParallelFor(), *repeat);
+  runner.MeasureTexture(args.Has("texture"));
   // Per configuration: the trials with the fovea on the truth, and for swept ones the Fig. 10
   // offsets too (the first of which is the truth itself).
   const std::vector<Eigen::Vector3f> sweep_offsets = SweepOffsets();

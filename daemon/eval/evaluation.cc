@@ -7,6 +7,7 @@
 #include "core/features.h"
 #include "core/segmentation.h"
 #include "core/sim/rerender.h"
+#include "daemon/eval/texture.h"
 #include "io/cloud_io.h"
 
 #include <algorithm>
@@ -130,6 +131,17 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
           t.instances.back().correspondences.clear();
         }
         runs.push_back(std::move(t));
+      }
+      if (texture_ && !runs.empty()) {
+        constexpr float kTextureToleranceM = 0.02f;
+        const TextureView scene_view(*s.frame.cloud, s.frame.intrinsics, 1000);
+        const TextureView model_view(models_[s.model].cloud, s.frame.intrinsics, 500);
+        const auto matches = scene_view.Match(model_view);
+        for (Trial& t : runs) {
+          t.texture.clear();
+          for (const Detection& d : t.instances)
+            t.texture.push_back(TextureSupport(matches, d.model_to_scene, kTextureToleranceM));
+        }
       }
       const CaseEvidence evidence = runs.front().evidence;
       auto median = runs.begin() + runs.size() / 2;

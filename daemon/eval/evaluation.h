@@ -49,6 +49,7 @@ struct Trial {
   std::vector<Detection> instances;      // as reported, best first (correspondences dropped)
   RecognitionStats stats;
   CaseEvidence evidence;  // what the truth says of this run's stages
+  std::vector<int> texture;  // per instance: its texture support (Runner::MeasureTexture), or empty
 };
 
 /// The attention loop's run from one fovea: frames until attention locks onto (follows) an
@@ -101,6 +102,8 @@ class Runner {
  public:
   /// `models` outlive the runner; each trial is run `repeat` times (>= 1).
   Runner(const std::vector<EvalModel>& models, ParallelFor parallel, int repeat);
+  /// Also measure each instance's texture support (daemon/eval/texture.h), untimed.
+  void MeasureTexture(bool on) { texture_ = on; }
 
   /// Where the fovea is for placement k of scene i (camera frame, metres).
   using FoveaPlacement = std::function<Eigen::Vector3f(std::size_t k, std::size_t i)>;
@@ -127,6 +130,7 @@ class Runner {
   const std::vector<EvalModel>& models_;
   const ParallelFor parallel_;
   const int repeat_;
+  bool texture_ = false;
 };
 
 /// True and false positives of the trials over the scenes at `threshold` metres, against the

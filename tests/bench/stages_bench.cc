@@ -2,6 +2,7 @@
 // 640x480 frame: the target among clutter, and a model cut from another capture). `make
 // bench-stages` runs it; `saccade bench` times the whole pipeline on real data
 // (docs/BENCHMARKS.md). A benchmark, not a test: nothing here asserts a time.
+#include "core/candidates.h"
 #include "core/foveation.h"
 #include "core/recognition.h"
 #include "core/registration.h"
@@ -76,6 +77,18 @@ void BM_TrackPose(benchmark::State& state) {
                                        CameraIntrinsics{}, start, TrackOptions{}));
 }
 BENCHMARK(BM_TrackPose)->Unit(benchmark::kMillisecond);
+
+// A search frame's whole-frame candidates (the table removed, model-sized windows scored).
+void BM_Candidates(benchmark::State& state) {
+  const Fixture& f = Demo();
+  const ModelSignature signature = SignModel(f.model->cloud(), f.model->scale().spacing_m);
+  std::size_t n = 0;
+  for (auto _ : state)
+    n = ProposeCandidates(f.demo.scene.cloud, CameraIntrinsics{}, signature, CandidateOptions{})
+            .size();
+  state.counters["candidates"] = double(n);
+}
+BENCHMARK(BM_Candidates)->Unit(benchmark::kMillisecond);
 
 void BM_DescribeModel(benchmark::State& state) {
   const Fixture& f = Demo();
