@@ -45,11 +45,12 @@ bool AttentionOptions::IsValid(std::string* error) const {
 Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
                                 const std::vector<Eigen::Vector3f>& places, float reach_m,
                                 float stay_m) {
-  Eigen::Vector3f landed = aim_m;
-  float best = reach_m;
-  for (const Eigen::Vector3f& p : places)
-    if (const float d = (p - aim_m).norm(); d <= best) best = d, landed = p;
-  return best <= stay_m ? aim_m : landed;
+  float nearest = reach_m;
+  for (const Eigen::Vector3f& p : places) nearest = std::min(nearest, (p - aim_m).norm());
+  if (nearest <= stay_m) return aim_m;
+  for (const Eigen::Vector3f& p : places)  // best first: the best within reach
+    if ((p - aim_m).norm() <= reach_m) return p;
+  return aim_m;
 }
 
 Eigen::Vector3f Attention::Target::PredictedAt(double time_s) const {

@@ -48,9 +48,9 @@ struct AttentionOptions {
   /// The remembered sighting is followed only at this confidence or above; below it the search
   /// goes on (G grows) rather than lock onto the best of poor sightings.
   float tentative_min_confidence = 0.7f;
-  /// A fixation given from outside (a command, the initial fovea) lands on the nearest
-  /// candidate within this distance, as a saccade lands on the object near where it was
-  /// aimed. 0: it stays where it was given.
+  /// A fixation given from outside (a command, the initial fovea) lands on the best candidate
+  /// within this distance, as a saccade lands on the object near where it was aimed. 0: it
+  /// stays where it was given.
   float land_on_candidate_m = 0.25f;
   /// ...unless a candidate lies this near the aim: the fixation is on an object already.
   float land_stay_m = 0.08f;
@@ -98,8 +98,9 @@ struct AttentionOptions {
   }
 };
 
-/// Where a fixation aimed at `aim_m` lands: the nearest of `places` within `reach_m`, or the aim
-/// itself when none is that near or one is within `stay_m` of it (it is on an object already).
+/// Where a fixation aimed at `aim_m` lands: the first (best) of `places` within `reach_m`, or
+/// the aim itself when none is that near or one is within `stay_m` of it (it is on an object
+/// already).
 Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
                                 const std::vector<Eigen::Vector3f>& places, float reach_m,
                                 float stay_m = 0);
