@@ -5,7 +5,7 @@ JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
 
 .PHONY: all deps configure build package install demo test bench bench-stages bench-daemon bench-track eval-xcap \
-        eval-xcap-ppf fuzz asan-build test-asan soak clean
+        eval-xcap-search eval-xcap-ppf fuzz asan-build test-asan soak clean
 
 all: build
 
@@ -63,6 +63,18 @@ eval-xcap: build
 	@OMP_WAIT_POLICY=passive $(BUILD_DIR)/daemon/saccade eval \
 	  --cases ../shared/data/mosd_xcap/cases_with_pose.yaml --data ../shared/data \
 	  --configs configs/xcap-configs.yaml --protocols a,b,c --reference saccade --out eval-xcap
+
+# Issue 34's search against the paper's on the same benchmark, protocols a, b, c, with colour
+# (eval-xcap-search/colour) and without (eval-xcap-search/no-colour): docs/RESULTS.md, "Finding
+# it anywhere" (about 20 minutes).
+eval-xcap-search: build
+	@OMP_WAIT_POLICY=passive $(BUILD_DIR)/daemon/saccade eval \
+	  --cases ../shared/data/mosd_xcap/cases_with_pose.yaml --data ../shared/data \
+	  --configs configs/xcap-search-configs.yaml --protocols a,b,c --out eval-xcap-search/colour
+	@OMP_WAIT_POLICY=passive $(BUILD_DIR)/daemon/saccade eval \
+	  --cases ../shared/data/mosd_xcap/cases_with_pose.yaml --data ../shared/data \
+	  --configs configs/xcap-search-configs.yaml --protocols a,b,c --no-colour \
+	  --out eval-xcap-search/no-colour
 
 # OpenCV's PPF matcher on every 4th case of the same benchmark: it trains each model for about
 # 16 s and matches a scene in about 2 s, 238 cases would take over an hour (about 20 minutes).
