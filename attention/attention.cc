@@ -53,6 +53,10 @@ Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
   return aim_m;
 }
 
+bool FollowsTentative(const Fixation& f) {
+  return f.mode == AttentionMode::kTracking && f.reason.rfind("tentative", 0) == 0;
+}
+
 Eigen::Vector3f Attention::Target::PredictedAt(double time_s) const {
   return position_m + velocity_mps * static_cast<float>(std::max(0.0, time_s - last_seen_s));
 }
@@ -191,13 +195,7 @@ void Attention::Associate(double time_s, const std::vector<Detection>& sightings
     const int i = nearest(-1, fovea, kAnyDistance);
     if (i < 0) break;
     used[i] = true;
-    Target t;
-    t.id = next_id_++;
-    t.model = sightings[i].model;
-    t.position_m = sightings[i].centroid_m;
-    t.last_seen_s = time_s;
-    t.confidence = sightings[i].confidence;
-    targets_.push_back(t);
+    targets_.push_back(NewTarget(sightings[i], time_s));
   }
 }
 
@@ -251,23 +249,43 @@ Fixation Attention::Update(std::int64_t frame_seq, double time_s,
   return next;
 }
 
+// The first of `places` farther than `radius_m` from every place visited in this search.
+std::vector<Eigen::Vector3f>::const_iterator Attention::FirstUnvisited(
+    const std::vector<Eigen::Vector3f>& places, float radius_m) const {
+  return std::find_if(places.begin(), places.end(), [&](const Eigen::Vector3f& p) {
+    return std::none_of(visited_.begin(), visited_.end(),
+                        [&](const Eigen::Vector3f& v) { return (p - v).norm() < radius_m; });
+  });
+}
+
+// A search's jump: the fovea to `place` at G_min.
+void Attention::JumpTo(const Eigen::Vector3f& place, const char* reason, Fixation* next) const {
+  next->fovea_m = place;
+  next->growth_m = options_.growth_min_m;
+  next->mode = AttentionMode::kSearching;
+  next->reason = reason;
+}
+
+Attention::Target Attention::NewTarget(const Detection& s, double time_s) {
+  Target t;
+  t.id = next_id_++;
+  t.model = s.model;
+  t.position_m = s.centroid_m;
+  t.last_seen_s = time_s;
+  t.confidence = s.confidence;
+  return t;
+}
+
 // The best candidate not visited in this search (nor where the fovea is): false when none is
 // left or the visits are spent.
 bool Attention::VisitCandidate(const std::vector<Eigen::Vector3f>& places, Fixation* next) {
   if (candidate_visits_ >= options_.max_candidate_visits) return false;
   if (candidate_visits_ == 0) visited_.clear();
   visited_.push_back(current_.fovea_m);
-  const auto pick = std::find_if(places.begin(), places.end(), [&](const Eigen::Vector3f& p) {
-    return std::none_of(visited_.begin(), visited_.end(), [&](const Eigen::Vector3f& v) {
-      return (p - v).norm() < options_.same_target_m;
-    });
-  });
+  const auto pick = FirstUnvisited(places, options_.same_target_m);
   if (pick == places.end()) return false;
   ++candidate_visits_;
-  next->fovea_m = *pick;
-  next->growth_m = options_.growth_min_m;
-  next->mode = AttentionMode::kSearching;
-  next->reason = "candidate";
+  JumpTo(*pick, "candidate", next);
   return true;
 }
 
@@ -290,27 +308,17 @@ void Attention::Lost(const std::vector<Eigen::Vector3f>& places, Fixation* next)
       if (landed != current_.fovea_m) {
         visited_.assign(1, current_.fovea_m);
         ++candidate_visits_;
-        next->fovea_m = landed;
-        next->growth_m = options_.growth_min_m;
-        next->mode = AttentionMode::kSearching;
-        next->reason = "landed";
+        JumpTo(landed, "landed", next);
         return;
       }
     }
     if (VisitCandidate(places, next)) return;
     if (has_tentative_ && tentative_.confidence >= options_.tentative_min_confidence) {
-      Target t;
-      t.id = next_id_++;
-      t.model = tentative_.model;
-      t.position_m = tentative_.centroid_m;
-      t.last_seen_s = next->time_s;
-      t.confidence = tentative_.confidence;
-      targets_.assign(1, t);
-      Follow(t, next->time_s, "tentative", next);
+      targets_.assign(1, NewTarget(tentative_, next->time_s));
+      Follow(targets_.front(), next->time_s, "tentative", next);
       return;
     }
   }
-  const std::vector<Eigen::Vector3f>& salient = places;
   if (current_.growth_m < options_.growth_max_m && !saccading_) {
     const float g = current_.growth_m;
     const float grown = options_.growth_kind == GrowthKind::kMultiplicative
@@ -338,25 +346,18 @@ void Attention::Lost(const std::vector<Eigen::Vector3f>& places, Fixation* next)
   }
   // Saccade: the most salient region not visited in this search (and not where we are).
   visited_.push_back(current_.fovea_m);
-  const auto unvisited = [&](const Eigen::Vector3f& p) {
-    return std::none_of(visited_.begin(), visited_.end(), [&](const Eigen::Vector3f& v) {
-      return (p - v).norm() < options_.saccade_region_m;
-    });
-  };
-  auto pick = std::find_if(salient.begin(), salient.end(), unvisited);
-  if (pick == salient.end() && !salient.empty()) {  // everything seen once: start over
+  auto pick = FirstUnvisited(places, options_.saccade_region_m);
+  if (pick == places.end() && !places.empty()) {  // everything seen once: start over
     visited_.assign(1, current_.fovea_m);
-    pick = std::find_if(salient.begin(), salient.end(), unvisited);
+    pick = FirstUnvisited(places, options_.saccade_region_m);
   }
   next->mode = AttentionMode::kSearching;
-  if (pick == salient.end()) {  // nothing salient at all: keep searching where we are
+  if (pick == places.end()) {  // nothing salient at all: keep searching where we are
     next->reason = "grow";
     return;
   }
   saccading_ = true;
-  next->fovea_m = *pick;
-  next->growth_m = options_.growth_min_m;
-  next->reason = "saccade";
+  JumpTo(*pick, "saccade", next);
 }
 
 }  // namespace saccade

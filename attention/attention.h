@@ -105,6 +105,10 @@ Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
                                 const std::vector<Eigen::Vector3f>& places, float reach_m,
                                 float stay_m = 0);
 
+/// True when attention follows the best instance of a search from nothing, one that started
+/// no track (reason "tentative"): saccaded lets a track start from it below the bar.
+bool FollowsTentative(const Fixation& f);
+
 /// Serial state machine; call Update once per frame, in frame order. Not thread-safe.
 class Attention {
  public:
@@ -135,6 +139,10 @@ class Attention {
   };
 
   Target* Find(int id);
+  Target NewTarget(const Detection& s, double time_s);
+  std::vector<Eigen::Vector3f>::const_iterator FirstUnvisited(
+      const std::vector<Eigen::Vector3f>& places, float radius_m) const;
+  void JumpTo(const Eigen::Vector3f& place, const char* reason, Fixation* next) const;
   void Associate(double time_s, const std::vector<Detection>& sightings, bool* attended_seen);
   void See(Target* target, const Detection& s, double time_s);
   void Follow(const Target& target, double time_s, const char* reason, Fixation* next);

@@ -225,8 +225,7 @@ void TrackStage::Process(Job* job) {
   f.searched_centre_m = job->detections.fovea_m;
   // Attention follows what no track holds: the best instance of its search (Attention's
   // "tentative"), which may start a track below tracking.min_track_confidence.
-  f.attended =
-      job->used.mode == AttentionMode::kTracking && job->used.reason.rfind("tentative", 0) == 0;
+  f.attended = FollowsTentative(job->used);
   // Recognition confirms what lies in the fovea's finest box (grown by G); outside it the
   // coarse levels may miss an object that is there.
   f.searched_half_m = job->detections.foveated
@@ -266,8 +265,7 @@ void AttendStage::Process(Job* job) {
   // to follow the best once its candidates are visited. A lost track's search does not follow
   // them: a look-alike is the usual instance while the object hides.
   const Fixation& now = attention_.current();
-  const bool from_nothing = now.target < 0 || (now.mode == AttentionMode::kTracking &&
-                                               now.reason.rfind("tentative", 0) == 0);
+  const bool from_nothing = now.target < 0 || FollowsTentative(now);
   if (tracking && seen.empty() && from_nothing)
     for (const Detection& d : job->detections.instances)
       if (d.track_state == TrackState::kNone) seen.push_back(d);

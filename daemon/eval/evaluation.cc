@@ -81,28 +81,35 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
     }
     if (!stock[m] && !described[m]) return false;
   }
-  // Where a given fovea lands (attention's land_on_candidate_m), and what finding it cost.
-  const auto land = [&](const Scene& s, const Eigen::Vector3f& aim, double* ms) {
-    if (search.attention.land_on_candidate_m <= 0 || !described[s.model]) return aim;
+  // The scene's whole-frame candidates, when a given fovea lands on one or protocol (c) visits
+  // them: proposed once per scene (it is the same every frame), with what proposing cost.
+  const bool lands = search.attention.land_on_candidate_m > 0;
+  const bool visits = acquisitions && search.attention.search == SearchKind::kCandidates;
+  std::vector<ModelSignature> signatures(models_.size());
+  for (std::size_t m = 0; m < models_.size(); ++m)
+    if (described[m] && (lands || visits))
+      signatures[m] = SignModel(described[m]->cloud(), described[m]->scale().spacing_m);
+  const auto propose = [&](const Scene& s) {
+    Proposed p;
+    if (signatures[s.model].radius_m <= 0) return p;
     const auto t0 = std::chrono::steady_clock::now();
-    const ModelDescription& m = *described[s.model];
-    std::vector<Eigen::Vector3f> places;
-    for (const Candidate& c :
-         ProposeCandidates(*s.frame.cloud, s.frame.intrinsics,
-                           SignModel(m.cloud(), m.scale().spacing_m), search.candidates))
-      places.push_back(c.centre_m);
-    const Eigen::Vector3f landed = LandOnCandidate(
-        aim, places, search.attention.land_on_candidate_m, search.attention.land_stay_m);
-    *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return landed;
+    for (const Candidate& c : ProposeCandidates(*s.frame.cloud, s.frame.intrinsics,
+                                                signatures[s.model], search.candidates))
+      p.places.push_back(c.centre_m);
+    p.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return p;
   };
   for (std::size_t k = 0; k < placements; ++k) {
     for (std::size_t i = 0; i < scenes.size(); ++i) {
       const Scene& s = scenes[i];
       SceneQuery q;
       q.foveated = c.pipeline == Pipeline::kFoveated;
-      double landing_ms = 0;
-      q.fovea_m = q.foveated ? land(s, fovea(k, i), &landing_ms) : fovea(k, i);
+      const Proposed proposed = q.foveated ? propose(s) : Proposed{};
+      const double landing_ms = lands ? proposed.ms : 0;
+      q.fovea_m = lands && q.foveated ? LandOnCandidate(fovea(k, i), proposed.places,
+                                                        search.attention.land_on_candidate_m,
+                                                        search.attention.land_stay_m)
+                                      : fovea(k, i);
       q.fovea = c.config.fovea;
       q.intrinsics = s.frame.intrinsics;
       if (is_ppf && ppf_model != s.model) {
@@ -149,7 +156,7 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
                        [](const Trial& a, const Trial& b) { return a.ms < b.ms; });
       if (acquisitions && described[s.model])
         (*acquisitions)[k].push_back(
-            Acquire(*described[s.model], s, q, o, search, median->instances));
+            Acquire(*described[s.model], s, q, o, search, proposed, median->instances));
       median->evidence = evidence;
       (*trials)[k].push_back(std::move(*median));
     }
@@ -193,28 +200,19 @@ CaseEvidence Runner::Evidence(const RecognitionResult& r, const Scene& s,
 
 Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
                             const RecognitionOptions& o, const SearchOptions& search,
-                            const std::vector<Detection>& first) const {
+                            const Proposed& proposed, const std::vector<Detection>& first) const {
   constexpr int kMaxFrames = 30;
   Acquisition a;
   Attention attention(search.attention, q.fovea_m);
   const bool foveated = q.foveated;
-  // The scene is the same every frame: its candidates are proposed once, and their cost is
+  // The scene is the same every frame: its candidates were proposed once, and their cost is
   // counted in every frame that searches (saccaded proposes them on each search frame).
-  std::vector<Eigen::Vector3f> places;
-  double candidates_ms = 0;
-  if (search.attention.search == SearchKind::kCandidates) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const ModelSignature signature = SignModel(model.cloud(), model.scale().spacing_m);
-    const std::vector<Candidate> candidates =
-        ProposeCandidates(*s.frame.cloud, s.frame.intrinsics, signature, search.candidates);
-    candidates_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    for (const Candidate& c : candidates) {
-      if (a.candidate_rank < 0 && (c.centre_m - s.truth_m).norm() <= 0.1f)
-        a.candidate_rank = int(places.size());
-      places.push_back(c.centre_m);
-    }
-  }
+  const bool visits = search.attention.search == SearchKind::kCandidates;
+  const std::vector<Eigen::Vector3f> none;
+  const std::vector<Eigen::Vector3f>& places = visits ? proposed.places : none;
+  const double candidates_ms = visits ? proposed.ms : 0;
+  for (std::size_t r = 0; r < places.size() && a.candidate_rank < 0; ++r)
+    if ((places[r] - s.truth_m).norm() <= 0.1f) a.candidate_rank = int(r);
   const EvalModel& m = models_[s.model];
   for (int frame = 1; frame <= kMaxFrames; ++frame) {
     const Fixation& f = attention.current();

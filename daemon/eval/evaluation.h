@@ -48,7 +48,7 @@ struct Trial {
   std::vector<Eigen::Vector3f> centres;  // each instance's model centre in the scene
   std::vector<Detection> instances;      // as reported, best first (correspondences dropped)
   RecognitionStats stats;
-  CaseEvidence evidence;  // what the truth says of this run's stages
+  CaseEvidence evidence;     // what the truth says of this run's stages
   std::vector<int> texture;  // per instance: its texture support (Runner::MeasureTexture), or empty
 };
 
@@ -64,6 +64,12 @@ struct Acquisition {
   int first_lock_frame = 0;    // the frame attention first followed a target (0: never)
   std::string first_lock_why;  // and why: detected, tentative, challenged
   std::vector<double> frame_ms;
+};
+
+/// A scene's whole-frame candidates, best first, and what proposing them cost.
+struct Proposed {
+  std::vector<Eigen::Vector3f> places;
+  double ms = 0;
 };
 
 /// How the attention loop searches in protocol (c): the attention options and the whole-frame
@@ -125,7 +131,7 @@ class Runner {
                         const RecognitionOptions& given) const;
   Acquisition Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
                       const RecognitionOptions& o, const SearchOptions& search,
-                      const std::vector<Detection>& first) const;
+                      const Proposed& proposed, const std::vector<Detection>& first) const;
 
   const std::vector<EvalModel>& models_;
   const ParallelFor parallel_;
