@@ -165,6 +165,7 @@ Detection TrackSet::Publish(const Track& t, const std::vector<TrackModel>& model
     d.fitness = t.found.fitness;
     d.coverage = t.found.coverage;
     d.colour_agreement = t.found.colour_agreement;
+    d.texture_agreement = t.found.texture_agreement;
     d.confidence = t.found.confidence;
   } else if (t.state == TrackState::kTracking) {
     d.fitness = t.fitness;

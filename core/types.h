@@ -92,6 +92,10 @@ struct Detection {
   float fitness = -1;
   float coverage = -1;
   float colour_agreement = -1;
+  /// The correlation of brightness between the model points on the scene's surface and the scene
+  /// points they lie on, in [-1, 1]: printed patterns line up only on the object itself, at its
+  /// pose (-1 when not measured: no colour, or a surface too plain on either side to tell).
+  float texture_agreement = -1;
   /// How likely the instance is to be the object, in [0, 1], from its verification figures
   /// (calibrated on the cross-capture benchmark, docs/RESULTS.md); -1 when not verified.
   float confidence = -1;

@@ -189,7 +189,29 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   return c;
 }
 
+// Brightness of a point's colour (Rec. 601 luma), 0-255.
+float Luma(const PointT& p) {
+  return 0.299f * float(p.r) + 0.587f * float(p.g) + 0.114f * float(p.b);
+}
+
 }  // namespace
+
+float TextureAgreement(const Cloud& model, const std::vector<int>& model_points, const Cloud& scene,
+                       const std::vector<int>& scene_points) {
+  constexpr float kMinSpread = 8;  // grey levels: below it a surface is too plain to compare
+  const std::size_t n = std::min(model_points.size(), scene_points.size());
+  if (n < 20) return -1;
+  double sm = 0, ss = 0, smm = 0, sss = 0, sms = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double m = Luma(model[model_points[i]]), s = Luma(scene[scene_points[i]]);
+    sm += m, ss += s, smm += m * m, sss += s * s, sms += m * s;
+  }
+  const double vm = smm / double(n) - (sm / double(n)) * (sm / double(n));
+  const double vs = sss / double(n) - (ss / double(n)) * (ss / double(n));
+  if (vm < kMinSpread * kMinSpread || vs < kMinSpread * kMinSpread) return -1;
+  const double cov = sms / double(n) - (sm / double(n)) * (ss / double(n));
+  return float(std::clamp(cov / std::sqrt(vm * vs), -1.0, 1.0));
+}
 
 bool HasColour(const Cloud& cloud) {
   if (cloud.empty()) return false;
@@ -297,6 +319,7 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
       Normalize(&on_model);
       Normalize(&seen);
       d.colour_agreement = Intersection(on_model, seen);
+      d.texture_agreement = TextureAgreement(model.points, c.explaining, scene, c.explained);
       if (options.min_colour_agreement > 0 && d.colour_agreement < options.min_colour_agreement)
         continue;
     }

@@ -89,6 +89,12 @@ VerificationModel MakeVerificationModel(const Cloud& model,
 /// colour reads as all black, and some files fill the field with one constant).
 bool HasColour(const Cloud& cloud);
 
+/// The Pearson correlation of brightness between `model`'s points `model_points` and `scene`'s
+/// points `scene_points` (pairs, index for index), in [-1, 1]; -1 when fewer than 20 pairs or
+/// either side is too plain (grey-level spread under 8) for a pattern to tell anything.
+float TextureAgreement(const Cloud& model, const std::vector<int>& model_points, const Cloud& scene,
+                       const std::vector<int>& scene_points);
+
 /// How likely a verified instance is the object, in [0, 1]: a logistic model of its votes,
 /// fitness, coverage, colour agreement (-1: not measured, a model without colour is used) and
 /// `relative_fit` (its fitness x coverage over the frame's best candidate's), calibrated on the

@@ -4,10 +4,10 @@
 Run the cross-capture benchmark with a configuration that keeps every verified instance
 (`verify_min_confidence: 0`, e.g. `saccade-ungated` of configs/xcap-configs.yaml), then:
 
-    scripts/fit-confidence.py eval-xcap/instances.csv saccade-ungated [--no-colour]
+    scripts/fit-confidence.py eval-xcap/instances.csv saccade-ungated [--no-colour] [--texture]
 
 It prints the logistic weights over (1, ln votes, fitness, coverage, [colour agreement],
-relative fit) fitted on every case, and, to show they hold on objects they were not fitted
+[texture agreement, with --texture], relative fit) fitted on every case, and, to show they hold on objects they were not fitted
 on, the counts at each threshold when each half of the identities (a seeded shuffle) is scored
 by weights fitted on the other half. Plain Python: Debian ships no numpy by default.
 """
@@ -17,11 +17,13 @@ import random
 import sys
 
 
-def features(row, best, colour):
+def features(row, best, colour, texture):
     f = [1.0, math.log(max(1.0, float(row["votes"]))), float(row["fitness"]),
          float(row["coverage"])]
     if colour:
         f.append(float(row["colour_agreement"]))
+    if texture:  # not measured (-1): counted as no agreement
+        f.append(max(0.0, float(row["texture_agreement"])))
     f.append(float(row["fitness"]) * float(row["coverage"]) / max(1e-6, best[row["case"]]))
     return f
 
@@ -47,6 +49,7 @@ def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     path, config, colour = sys.argv[1], sys.argv[2], "--no-colour" not in sys.argv
+    texture = colour and "--texture" in sys.argv
     rows = [r for r in csv.DictReader(open(path))
             if r["configuration"] == config and r["protocol"] == "a"]
     if not rows:
@@ -54,7 +57,7 @@ def main():
     best = {}
     for r in rows:
         best[r["case"]] = max(best.get(r["case"], 0.0), float(r["fitness"]) * float(r["coverage"]))
-    x = [features(r, best, colour) for r in rows]
+    x = [features(r, best, colour, texture) for r in rows]
     y = [int(r["true"]) for r in rows]
     ids = sorted({r["identity"] for r in rows})
     random.Random(1).shuffle(ids)
@@ -63,7 +66,8 @@ def main():
     ib = [i for i, r in enumerate(rows) if r["identity"] not in half_a]
     w = train(x, y, range(len(x)))
     wa, wb = train(x, y, ia), train(x, y, ib)
-    names = ["bias", "ln votes", "fitness", "coverage"] + (["colour"] if colour else []) + ["relative fit"]
+    names = (["bias", "ln votes", "fitness", "coverage"] + (["colour"] if colour else []) +
+             (["texture"] if texture else []) + ["relative fit"])
     print(f"{len(rows)} instances ({sum(y)} true); weights fitted on all:")
     print("  " + ", ".join(f"{n} {v:.3f}" for n, v in zip(names, w)))
     print("threshold | held-out: true kept, false kept | fitted on all: true kept, false kept")

@@ -313,7 +313,7 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
   // Every reported instance with its figures: what a confidence is calibrated on.
   std::ofstream inst(dir / "instances.csv");
   inst << "configuration,protocol,case,identity,feasible,rank,true,votes,fitness,coverage,"
-          "colour_agreement,confidence,texture\n";
+          "colour_agreement,confidence,texture,texture_agreement\n";
   for (std::size_t c = 0; c < runs.size(); ++c)
     for (const ProtocolRun& run : runs[c])
       for (std::size_t i = 0; i < scenes.size(); ++i)
@@ -324,7 +324,8 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
                << ((run.trials[i].centres[k] - scenes[i].truth_m).norm() <= kRuleM) << ','
                << d.votes << ',' << d.fitness << ',' << d.coverage << ',' << d.colour_agreement
                << ',' << d.confidence << ','
-               << (k < run.trials[i].texture.size() ? run.trials[i].texture[k] : -1) << "\n";
+               << (k < run.trials[i].texture.size() ? run.trials[i].texture[k] : -1) << ','
+               << d.texture_agreement << "\n";
         }
 
   // Every case under every configuration and protocol.

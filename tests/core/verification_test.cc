@@ -71,5 +71,30 @@ TEST(InstanceConfidence, RisesWithEachFigureAndStaysAProbability) {
   EXPECT_LT(g, 1.0f);
 }
 
+TEST(TextureAgreement, SaysWhetherAPrintedPatternLinesUpAndNothingOnAPlainSurface) {
+  // A stripe pattern of 60 points; the scene sees it brighter (another exposure), shifted by
+  // half a stripe (a pose slid along the print), or as a plain grey surface.
+  Cloud model, brighter, shifted, plain;
+  std::vector<int> index;
+  const auto grey = [](int level) {
+    PointT p;
+    p.r = p.g = p.b = std::uint8_t(level);
+    return p;
+  };
+  for (int i = 0; i < 60; ++i) {
+    const bool dark = (i / 5) % 2 == 0, dark_shifted = ((i + 5) / 5) % 2 == 0;
+    model.push_back(grey(dark ? 40 : 200));
+    brighter.push_back(grey(dark ? 90 : 250));
+    shifted.push_back(grey(dark_shifted ? 40 : 200));
+    plain.push_back(grey(120 + i % 3));
+    index.push_back(i);
+  }
+  EXPECT_NEAR(TextureAgreement(model, index, brighter, index), 1.0f, 1e-4f);
+  EXPECT_LT(TextureAgreement(model, index, shifted, index), -0.9f);
+  EXPECT_EQ(TextureAgreement(model, index, plain, index), -1.0f);  // nothing to compare
+  const std::vector<int> few(index.begin(), index.begin() + 10);
+  EXPECT_EQ(TextureAgreement(model, few, brighter, few), -1.0f);  // too few pairs
+}
+
 }  // namespace
 }  // namespace saccade
