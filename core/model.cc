@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <mutex>
 #include <numeric>
 #include <type_traits>
@@ -137,8 +138,21 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
       options.vote_for_model_origin ? Eigen::Vector3f::Zero() : *FiniteCentroid(out.cloud_);
 
   const std::vector<std::uint8_t> mask(out.cloud_.size(), 1);
-  const Normals normals = KnnNormals(out.cloud_, mask, options.model_normal_neighbors);
+  Normals normals = KnnNormals(out.cloud_, mask, options.model_normal_neighbors);
+  // A model whose sensor origin lies inside it was not captured from one place: it is a whole
+  // surface (a mesh rendered from all around, `saccade model --mesh`), whose normals must face
+  // out of it, as a camera looking at it sees them.
+  const Box box = *BoundingBox(out.cloud_);
+  const Eigen::Vector3f origin = out.cloud_.sensor_origin_.head<3>();
+  const bool whole_surface =
+      (origin.array() > box.min.array()).all() && (origin.array() < box.max.array()).all();
+  if (whole_surface) {  // away from its centre: right on a convex part, not inside a hollow
+    const Eigen::Vector3f centre = (box.min + box.max) / 2;
+    for (std::size_t i = 0; i < normals.size(); ++i)
+      if (normals[i].dot(out.cloud_[i].getVector3fMap() - centre) < 0) normals[i] = -normals[i];
+  }
   out.verification_ = MakeVerificationModel(out.cloud_, normals, options.verify.model_points);
+  out.verification_.whole_surface = whole_surface;
   std::vector<int> all(out.cloud_.size());
   std::iota(all.begin(), all.end(), 0);
   const std::vector<int> keypoints =

@@ -109,6 +109,8 @@ struct Check {
   Eigen::Matrix4f pose;
   int inliers = 0, against = 0;
   float thickness = 0;  // of the inlying model points: sqrt of their least covariance eigenvalue
+  int counted = 0;      // model points counted: all, or a whole surface's facing the camera
+  float counted_thickness = 0;  // of the counted points
   std::vector<int> explained;   // scene points nearest the inlying model points
   std::vector<int> explaining;  // the inlying model points, one per explained scene point
 };
@@ -135,6 +137,12 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   if (xyz.size() < 3 * 10) return c;
   const NearestIndex crop(std::move(xyz));
   const std::size_t n_points = model.points.size();
+  // A whole-surface model's point counts only where the pose turns it towards the camera.
+  const auto faces_camera = [&](std::size_t m, const Eigen::Vector3f& p) {
+    if (!model.whole_surface) return true;
+    const Eigen::Vector3f n = c.pose.topLeftCorner<3, 3>() * model.normals[m];
+    return !n.allFinite() || n.dot(p) < 0;
+  };
   // ICP aligns an even subset of the points; all of them are counted afterwards.
   const std::size_t icp_step = std::max<std::size_t>(1, n_points / std::max(1, o.icp_points));
   Eigen::Matrix3Xd src(3, n_points), dst(3, n_points);
@@ -144,6 +152,7 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
     int n = 0;
     for (std::size_t m = 0; m < n_points; m += icp_step) {
       const Eigen::Vector3f p = (c.pose * model.points[m].getVector3fMap().homogeneous()).head<3>();
+      if (!faces_camera(m, p)) continue;
       const int j = crop.Nearest(p, max_d * max_d).first;
       if (j < 0) continue;
       src.col(n) = p.cast<double>();
@@ -161,8 +170,11 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   }
   const float tolerance = 2 * o.inlier_distance_m;
   const Eigen::Matrix3f R = c.pose.topLeftCorner<3, 3>();
+  std::vector<Eigen::Vector3f> facing;  // the points counted, model frame
   for (std::size_t m = 0; m < n_points; ++m) {
     const Eigen::Vector3f p = (c.pose * model.points[m].getVector3fMap().homogeneous()).head<3>();
+    if (!faces_camera(m, p)) continue;
+    if (model.whole_surface) facing.push_back(model.points[m].getVector3fMap());
     const int j = crop.Nearest(p, o.inlier_distance_m * o.inlier_distance_m).first;
     if (j >= 0) {
       ++c.inliers;
@@ -186,6 +198,8 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   std::vector<Eigen::Vector3f> on_surface;  // the inlying model points, model frame
   for (int m : c.explaining) on_surface.push_back(model.points[m].getVector3fMap());
   c.thickness = Thickness(on_surface);
+  c.counted = model.whole_surface ? int(facing.size()) : int(n_points);
+  c.counted_thickness = model.whole_surface ? Thickness(facing) : model.thickness_m;
   return c;
 }
 
@@ -304,11 +318,11 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
     const Check& c = checks[i];
     Detection& d = instances[i];
     d.fitness = c.inliers ? float(c.inliers) / float(c.inliers + c.against) : 0.0f;
-    d.coverage = float(c.inliers) / float(model.points.size());
+    d.coverage = float(c.inliers) / float(std::max(1, c.counted));
     verdict[i] = Verdict::kNoFit;
     if (d.fitness < options.min_fitness || d.coverage < options.min_coverage) continue;
     verdict[i] = Verdict::kFlat;
-    if (c.thickness < options.min_depth_ratio * model.thickness_m) continue;
+    if (c.thickness < options.min_depth_ratio * c.counted_thickness) continue;
     verdict[i] = Verdict::kColour;
     if (colour) {
       // The same surface on both sides: the model points on the scene and the points they lie
@@ -360,8 +374,7 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
       continue;
     int fresh = 0;
     for (int j : c.explained) fresh += !std::binary_search(taken.begin(), taken.end(), j);
-    if (float(fresh) < options.min_coverage * float(model.points.size()) || fresh < c.inliers / 2)
-      continue;
+    if (float(fresh) < options.min_coverage * float(c.counted) || fresh < c.inliers / 2) continue;
     taken.insert(taken.end(), c.explained.begin(), c.explained.end());
     std::sort(taken.begin(), taken.end());
     centres.push_back(centre);

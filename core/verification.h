@@ -77,6 +77,10 @@ struct VerificationModel {
   float radius_m = 0;                                // half the bounding box's diagonal
   bool coloured = false;
   float thickness_m = 0;  // spread along the least-spread direction: 0 for a planar model
+  /// The whole surface (a mesh rendered from all around), its normals facing out: only the
+  /// points a pose turns towards the camera are aligned and counted, and the share found is of
+  /// those (a captured model is one view: every point counts).
+  bool whole_surface = false;
 };
 
 /// At most `max_points` of the model's finite points; `normals` are per model point (NaN where

@@ -16,7 +16,10 @@
 #include <pcl/io/pcd_io.h>
 
 #include <sys/stat.h>
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -57,8 +60,15 @@ bool ReadBlob(const std::string& path, pcl::PCLPointCloud2* blob, Eigen::Vector4
 std::optional<Cloud> LoadCloud(const std::string& path, std::string* error) {
   pcl::PCLPointCloud2 blob;
   Cloud cloud;
-  if (!ReadBlob(path, &blob, &cloud.sensor_origin_, &cloud.sensor_orientation_, error))
+  if (!ReadBlob(path, &blob, &cloud.sensor_origin_, &cloud.sensor_orientation_, error)) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    if (error && (ext == ".obj" || ext == ".ply" || ext == ".stl"))
+      *error += " (a mesh: make a model of it with `saccade model --mesh " +
+                std::filesystem::path(path).filename().string() + " --out MODEL.pcd`)";
     return std::nullopt;
+  }
   const Eigen::Vector4f origin = cloud.sensor_origin_;
   const Eigen::Quaternionf orientation = cloud.sensor_orientation_;
   pcl::fromPCLPointCloud2(blob, cloud);

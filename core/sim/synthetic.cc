@@ -6,6 +6,50 @@
 
 namespace saccade {
 
+Mesh ShapeMesh(const Shape& shape, int sphere_bands, const std::array<std::uint8_t, 3>& rgb) {
+  Mesh mesh;
+  const auto quad = [&](int a, int b, int c, int d) {
+    mesh.triangles.push_back({a, b, c});
+    mesh.triangles.push_back({a, c, d});
+  };
+  for (const Shape::Part& part : shape.parts) {
+    const int base = int(mesh.vertices.size());
+    if (part.kind == Shape::Part::Kind::kBox) {
+      for (int i = 0; i < 8; ++i)  // corner i: bit 0 x, bit 1 y, bit 2 z (0 low, 1 high)
+        mesh.vertices.push_back(part.centre_m +
+                                part.half_size_m.cwiseProduct(Eigen::Vector3f(
+                                    i & 1 ? 1.f : -1.f, i & 2 ? 1.f : -1.f, i & 4 ? 1.f : -1.f)));
+      // Each face wound to face out.
+      quad(base + 0, base + 2, base + 3, base + 1);  // z low
+      quad(base + 4, base + 5, base + 7, base + 6);  // z high
+      quad(base + 0, base + 1, base + 5, base + 4);  // y low
+      quad(base + 2, base + 6, base + 7, base + 3);  // y high
+      quad(base + 0, base + 4, base + 6, base + 2);  // x low
+      quad(base + 1, base + 3, base + 7, base + 5);  // x high
+      continue;
+    }
+    const int n = std::max(3, sphere_bands);
+    for (int i = 0; i <= n; ++i) {  // latitude rings, pole to pole
+      const double theta = M_PI * i / n;
+      for (int j = 0; j < 2 * n; ++j) {
+        const double phi = M_PI * j / n;
+        mesh.vertices.push_back(part.centre_m +
+                                part.radius_m *
+                                    Eigen::Vector3f(float(std::sin(theta) * std::cos(phi)),
+                                                    float(std::cos(theta)),
+                                                    float(std::sin(theta) * std::sin(phi))));
+      }
+    }
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < 2 * n; ++j) {
+        const int a = base + i * 2 * n + j, b = base + i * 2 * n + (j + 1) % (2 * n);
+        quad(a, b, b + 2 * n, a + 2 * n);  // at the poles one of the two has no area
+      }
+  }
+  mesh.face_colours.assign(mesh.triangles.size(), rgb);
+  return mesh;
+}
+
 Shape TargetShape() {
   // Curved parts of three sizes on a flat slab: the creases where they meet give local frames
   // that repeat from view to view, which flat faces or a lone sphere would not.

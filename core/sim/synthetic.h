@@ -2,7 +2,10 @@
 // Kinect-like noise model, deterministically from a seed. Pure geometry, no I/O.
 #pragma once
 
+#include "core/mesh.h"
 #include "core/types.h"
+
+#include <array>
 
 #include <cstdint>
 #include <vector>
@@ -37,6 +40,12 @@ struct Shape {
 /// A distinctive, asymmetric target: four balls of different sizes on a slab, 14 x 14 x 10 cm;
 /// its bottom face is at y = +0.05 in its own frame (y points down, as the camera's).
 Shape TargetShape();
+
+/// The shape as a triangle mesh in its own frame (boxes as 12 triangles, spheres as latitude
+/// and longitude bands, `sphere_bands` of them), coloured `rgb`: the synthetic objects as a user
+/// with their CAD would give them to `saccade model --mesh`.
+Mesh ShapeMesh(const Shape& shape, int sphere_bands = 24,
+               const std::array<std::uint8_t, 3>& rgb = {200, 60, 40});
 
 struct SceneObject {
   Shape shape;

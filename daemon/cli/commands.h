@@ -21,6 +21,7 @@ int RunDetections(const std::vector<std::string>& args, std::ostream& out, std::
 int RunFixations(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 /// saccade view: the live web viewer.
 int RunView(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int RunModel(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunSegment(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunEval(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunBenchTrack(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);

@@ -1,0 +1,17 @@
+// Reading meshes (`saccade model --mesh`): Wavefront OBJ (with its MTL's diffuse colours per
+// face), PLY (ASCII or binary, vertex colours kept) and STL (ASCII or binary). Every failure
+// comes back as one line naming the file.
+#pragma once
+
+#include "core/mesh.h"
+
+#include <optional>
+#include <string>
+
+namespace saccade {
+
+/// The mesh in `path`, its coordinates multiplied by `scale` (0.001 for a file in millimetres),
+/// polygons split into triangles. Checked with IsValidMesh.
+std::optional<Mesh> LoadMesh(const std::string& path, float scale, std::string* error);
+
+}  // namespace saccade
