@@ -49,7 +49,7 @@ std::string WriteFile(const std::string& name, const std::string& text) {
 // The subcommands, as `saccade --help` lists them.
 const std::vector<std::string> kCommands = {"recognize",     "bench",     "bench-track", "record",
                                             "log-fixations", "fixations", "detections",  "segment",
-                                            "eval",          "demo"};
+                                            "model",         "eval",      "demo"};
 
 // The flags a --help lists: every "  --name" that starts an entry.
 std::vector<std::string> HelpFlags(const std::string& help) {
@@ -92,6 +92,46 @@ TEST(Cli, EveryCommandsHelpListsFlagsItAccepts) {
   // The flags documented nowhere before: --threads of recognize and bench.
   EXPECT_NE(Saccade("recognize --help").out.find("--threads N"), std::string::npos);
   EXPECT_NE(Saccade("bench --help").out.find("--threads N"), std::string::npos);
+}
+
+TEST(Cli, ModelMakesAWholeSurfaceModelOfAMeshAndRefusesABrokenOne) {
+  // A 10 x 6 x 4 cm box in millimetres, its six faces as quads.
+  const std::string mesh =
+      WriteFile("box_mm.obj",
+                "v -50 -30 -20\nv 50 -30 -20\nv -50 30 -20\nv 50 30 -20\n"
+                "v -50 -30 20\nv 50 -30 20\nv -50 30 20\nv 50 30 20\n"
+                "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n");
+  const std::string out = ::testing::TempDir() + "box_model.pcd";
+  std::filesystem::remove(out);
+  const CliRun r = Saccade("model --mesh " + mesh + " --unit mm --out " + out + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("\"triangles\":12"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"views\":42"), std::string::npos) << r.out;
+  // The size in metres: 0.1 x 0.06 x 0.04 within a spacing.
+  const auto at = r.out.find("\"size_m\":[");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  float x = 0, y = 0, z = 0;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at + 10, "%f,%f,%f", &x, &y, &z), 3) << r.out;
+  EXPECT_NEAR(x, 0.1f, 0.002f);
+  EXPECT_NEAR(y, 0.06f, 0.002f);
+  EXPECT_NEAR(z, 0.04f, 0.002f);
+  // About the box's area over the 2 mm spacing squared (6,200 cells).
+  const auto points = r.out.find("\"points\":");
+  ASSERT_NE(points, std::string::npos);
+  const int n = std::atoi(r.out.c_str() + points + 9);
+  EXPECT_GT(n, 5000);
+  EXPECT_LT(n, 7500);
+  ASSERT_TRUE(std::filesystem::exists(out));
+  // Read back as a model by another command: its size as recognize measures it.
+  const CliRun read = Saccade("recognize --model " + out + " --scene " + out + " --plain");
+  EXPECT_NE(read.out.find("model: size 0.12"), std::string::npos) << read.out;
+
+  const std::string broken = WriteFile("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 9\n");
+  const std::string none = ::testing::TempDir() + "broken_model.pcd";
+  const CliRun bad = Saccade("model --mesh " + broken + " --out " + none);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_EQ(bad.out, "saccade model: " + broken + ": face 1 names vertex 9 of 2\n");
+  EXPECT_FALSE(std::filesystem::exists(none));
 }
 
 TEST(Cli, DaemonHelpListsItsFlagsSignalsAndExitCodes) {
