@@ -3,6 +3,7 @@
 #include "core/fail.h"
 #include "core/sim/scenario.h"
 #include "io/frame_source.h"
+#include "io/mesh_io.h"
 #include "io/pcd_check.h"
 
 #include <cerrno>
@@ -61,10 +62,7 @@ std::optional<Cloud> LoadCloud(const std::string& path, std::string* error) {
   pcl::PCLPointCloud2 blob;
   Cloud cloud;
   if (!ReadBlob(path, &blob, &cloud.sensor_origin_, &cloud.sensor_orientation_, error)) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return std::tolower(c); });
-    if (error && (ext == ".obj" || ext == ".ply" || ext == ".stl"))
+    if (error && IsMeshPath(path))
       *error += " (a mesh: make a model of it with `saccade model --mesh " +
                 std::filesystem::path(path).filename().string() + " --out MODEL.pcd`)";
     return std::nullopt;

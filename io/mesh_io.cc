@@ -169,6 +169,11 @@ std::optional<Mesh> ReadPly(const std::string& path, std::string* error) {
 
 }  // namespace
 
+bool IsMeshPath(const std::string& path) {
+  const std::string ext = Lower(std::filesystem::path(path).extension().string());
+  return ext == ".obj" || ext == ".ply" || ext == ".stl";
+}
+
 std::optional<Mesh> LoadMesh(const std::string& path, float scale, std::string* error) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))

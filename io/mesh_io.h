@@ -10,6 +10,9 @@
 
 namespace saccade {
 
+/// True when `path` names a mesh by its extension (.obj, .ply or .stl, any case).
+bool IsMeshPath(const std::string& path);
+
 /// The mesh in `path`, its coordinates multiplied by `scale` (0.001 for a file in millimetres),
 /// polygons split into triangles. Checked with IsValidMesh.
 std::optional<Mesh> LoadMesh(const std::string& path, float scale, std::string* error);
