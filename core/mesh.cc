@@ -1,6 +1,7 @@
 #include "core/mesh.h"
 
 #include "core/fail.h"
+#include "core/surface_views.h"
 
 #include <Eigen/Geometry>
 
@@ -97,32 +98,6 @@ MeshDepth RenderMeshDepth(const Mesh& mesh, const CameraIntrinsics& k,
 }
 
 namespace {
-
-// `n` directions spread evenly over the unit sphere (a Fibonacci lattice).
-std::vector<Eigen::Vector3f> SphereDirections(int n) {
-  std::vector<Eigen::Vector3f> out;
-  const double golden = M_PI * (3 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double y = n == 1 ? 0 : 1 - 2 * (i + 0.5) / n;
-    const double r = std::sqrt(std::max(0.0, 1 - y * y));
-    out.emplace_back(float(r * std::cos(golden * i)), float(y), float(r * std::sin(golden * i)));
-  }
-  return out;
-}
-
-// A camera at `centre` looking at `target` (optical frame: z forward), camera-to-world.
-Eigen::Matrix4f LookAt(const Eigen::Vector3f& centre, const Eigen::Vector3f& target) {
-  const Eigen::Vector3f z = (target - centre).normalized();
-  const Eigen::Vector3f a =
-      std::abs(z.y()) < 0.9f ? Eigen::Vector3f::UnitY() : Eigen::Vector3f::UnitX();
-  const Eigen::Vector3f x = a.cross(z).normalized();
-  Eigen::Matrix4f pose = Eigen::Matrix4f::Identity();
-  pose.block<3, 1>(0, 0) = x;
-  pose.block<3, 1>(0, 1) = z.cross(x);
-  pose.block<3, 1>(0, 2) = z;
-  pose.block<3, 1>(0, 3) = centre;
-  return pose;
-}
 
 // The colour of `mesh` at point `p` on triangle `t`: the face's, or its vertices' blended by
 // where p lies; grey when the mesh has none.

@@ -1,8 +1,10 @@
 #include "core/model.h"
 
+#include "core/camera.h"
 #include "core/fail.h"
 #include "core/foveation.h"
 #include "core/nearest_within.h"
+#include "core/surface_views.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 #include <flann/flann.hpp>
@@ -118,6 +120,92 @@ std::optional<Eigen::Vector3f> FiniteCentroid(const Cloud& cloud) {
   return Eigen::Vector3f((sum / static_cast<double>(n)).cast<float>());
 }
 
+namespace {
+
+DescribeOptions ModelDescribeOptions(const RecognitionOptions& options) {
+  DescribeOptions describe;
+  describe.shot_radius_m = options.model_shot_radius_m;
+  describe.lrf_radius_m = options.model_lrf_radius_m;
+  return describe;
+}
+
+// The keypoints of a view whose SHOT support stands out of a plane by min_relief of the
+// radius (RMS) or more: a flat patch of a whole surface would match every table and wall.
+std::vector<int> KeypointsWithRelief(const Cloud& view, const std::vector<int>& keypoints,
+                                     const NeighborSearch& search, float radius_m,
+                                     float min_relief) {
+  std::vector<int> out, support;
+  std::vector<float> sqr_dists;
+  std::vector<Eigen::Vector3f> points;
+  for (int k : keypoints) {
+    search.Radius(k, radius_m, &support, &sqr_dists);
+    if (support.size() < 3) continue;
+    points.clear();
+    for (int j : support) points.push_back(view[std::size_t(j)].getVector3fMap());
+    if (std::sqrt(ComputePrincipalAxes(points).variances[0]) >= min_relief * radius_m)
+      out.push_back(k);
+  }
+  return out;
+}
+
+// A whole surface described as a scene would show it: one side at a time, sampled on a
+// camera's pixels, with the sensor's noise. Each of options.model_views views is rendered
+// (RenderSurface), described as a captured model is, and its descriptors join one set, their
+// keypoints moved to the surface points they lie on: one model frame, so that they vote together.
+// `normals` (the surface's, either way) are turned to face the first view that saw each point,
+// out of the object, hollows included; a point no view saw faces away from the centre.
+Descriptors DescribeViews(const Cloud& surface, const ModelScale& scale,
+                          const RecognitionOptions& options, Normals* normals) {
+  const Box box = *BoundingBox(surface);
+  const Eigen::Vector3f centre = (box.min + box.max) / 2;
+  const CameraIntrinsics kinect;
+  // Near enough for the sensor's density, far enough that the whole model is in the image.
+  const float fit = box.Size().norm() / 2 * float(kinect.fx) / (0.45f * float(kinect.height));
+  const float distance = std::max(options.model_view_distance_m, fit);
+  const float disc = 1.5f * std::max(scale.spacing_m, 1e-4f);  // no gaps between the points
+  const DescribeOptions describe = ModelDescribeOptions(options);
+  Descriptors out;
+  std::vector<std::uint8_t> oriented(surface.size(), 0);
+  const std::vector<Eigen::Vector3f> directions = SphereDirections(options.model_views);
+  for (std::size_t v = 0; v < directions.size(); ++v) {
+    const Eigen::Vector3f eye = centre + distance * directions[v];
+    const Eigen::Matrix4f camera = LookAt(eye, centre);
+    SurfaceView view = RenderSurface(surface, *normals, kinect, camera, disc,
+                                     options.model_view_noise_m, options.match_seed + unsigned(v));
+    if (view.points.empty()) continue;
+    for (PointT& p : view.points)  // into the model's frame, seen from the eye
+      p.getVector3fMap() = (camera * p.getVector3fMap().homogeneous()).head<3>();
+    view.points.sensor_origin_ = eye.homogeneous();
+    const std::vector<std::uint8_t> mask(view.points.size(), 1);
+    const Normals view_normals = KnnNormals(view.points, mask, options.model_normal_neighbors);
+    std::vector<int> all(view.points.size());
+    std::iota(all.begin(), all.end(), 0);
+    const auto search = MakeKdTreeSearch(view.points, mask);
+    const std::vector<int> keypoints = KeypointsWithRelief(
+        view.points, VoxelRepresentatives(view.points, all, options.model_keypoint_radius_m),
+        *search, describe.shot_radius_m, options.model_min_relief);
+    Descriptors d = DescribeKeypoints(view.points, view_normals, keypoints, *search, describe);
+    for (int& k : d.keypoint) k = view.source[std::size_t(k)];
+    out.keypoint.insert(out.keypoint.end(), d.keypoint.begin(), d.keypoint.end());
+    out.lrf.insert(out.lrf.end(), d.lrf.begin(), d.lrf.end());
+    out.shot.insert(out.shot.end(), d.shot.begin(), d.shot.end());
+    for (int i : view.source) {
+      const std::size_t at = std::size_t(i);
+      if (oriented[at]) continue;
+      oriented[at] = 1;
+      Eigen::Vector3f& n = (*normals)[at];
+      if (n.dot(eye - surface[at].getVector3fMap()) < 0) n = -n;
+    }
+  }
+  for (std::size_t i = 0; i < normals->size(); ++i) {
+    Eigen::Vector3f& n = (*normals)[i];
+    if (!oriented[i] && n.dot(surface[i].getVector3fMap() - centre) < 0) n = -n;
+  }
+  return out;
+}
+
+}  // namespace
+
 std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& given,
                                               std::string* error) {
   ModelDescription out;
@@ -140,28 +228,24 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
   const std::vector<std::uint8_t> mask(out.cloud_.size(), 1);
   Normals normals = KnnNormals(out.cloud_, mask, options.model_normal_neighbors);
   // A model whose sensor origin lies inside it was not captured from one place: it is a whole
-  // surface (a mesh rendered from all around, `saccade model --mesh`), whose normals must face
-  // out of it, as a camera looking at it sees them.
+  // surface (a mesh rendered from all around, `saccade model --mesh`).
   const Box box = *BoundingBox(out.cloud_);
   const Eigen::Vector3f origin = out.cloud_.sensor_origin_.head<3>();
   const bool whole_surface =
       (origin.array() > box.min.array()).all() && (origin.array() < box.max.array()).all();
-  if (whole_surface) {  // away from its centre: right on a convex part, not inside a hollow
-    const Eigen::Vector3f centre = (box.min + box.max) / 2;
-    for (std::size_t i = 0; i < normals.size(); ++i)
-      if (normals[i].dot(out.cloud_[i].getVector3fMap() - centre) < 0) normals[i] = -normals[i];
+  const DescribeOptions describe = ModelDescribeOptions(options);
+  if (whole_surface) {
+    out.descriptors_ = DescribeViews(out.cloud_, out.scale_, options, &normals);
+  } else {
+    std::vector<int> all(out.cloud_.size());
+    std::iota(all.begin(), all.end(), 0);
+    const std::vector<int> keypoints =
+        VoxelRepresentatives(out.cloud_, all, options.model_keypoint_radius_m);
+    const auto search = MakeKdTreeSearch(out.cloud_, mask);
+    out.descriptors_ = DescribeKeypoints(out.cloud_, normals, keypoints, *search, describe);
   }
   out.verification_ = MakeVerificationModel(out.cloud_, normals, options.verify.model_points);
   out.verification_.whole_surface = whole_surface;
-  std::vector<int> all(out.cloud_.size());
-  std::iota(all.begin(), all.end(), 0);
-  const std::vector<int> keypoints =
-      VoxelRepresentatives(out.cloud_, all, options.model_keypoint_radius_m);
-  const auto search = MakeKdTreeSearch(out.cloud_, mask);
-  DescribeOptions describe;
-  describe.shot_radius_m = options.model_shot_radius_m;
-  describe.lrf_radius_m = options.model_lrf_radius_m;
-  out.descriptors_ = DescribeKeypoints(out.cloud_, normals, keypoints, *search, describe);
   if (out.descriptors_.size() == 0) {
     Fail(error, "model has no describable keypoint (too few points for the SHOT radius?)");
     return std::nullopt;

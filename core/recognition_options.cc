@@ -20,6 +20,7 @@ bool RecognitionOptions::IsValid(std::string* error) const {
   } counts[] = {
       {"scene_normal_neighbors", scene_normal_neighbors, 3, 1000},
       {"model_normal_neighbors", model_normal_neighbors, 3, 1000},
+      {"model_views", model_views, 1, 1000},
       {"max_scene_keypoints", max_scene_keypoints, 0, 10'000'000},
       {"hough_threshold", hough_threshold, 1, 1'000'000},
       {"match_branching", match_branching, 2, 1024},
@@ -42,9 +43,14 @@ bool RecognitionOptions::IsValid(std::string* error) const {
       {"max_descriptor_sqr_distance", max_descriptor_sqr_distance},
       {"hough_bin_m", hough_bin_m},
       {"pose_inlier_threshold_m", pose_inlier_threshold_m},
+      {"model_view_distance_m", model_view_distance_m},
   };
   for (const auto& [name, value] : radii)
     if (!PositiveFinite(value)) return Fail(error, std::string(name) + " must be finite and > 0");
+  if (!std::isfinite(model_view_noise_m) || model_view_noise_m < 0)
+    return Fail(error, "model_view_noise_m must be finite and >= 0");
+  if (!(model_min_relief >= 0 && model_min_relief < 1))
+    return Fail(error, "model_min_relief must be in [0, 1)");
   if (!std::isfinite(max_described_density_m) || max_described_density_m < 0)
     return Fail(error, "max_described_density_m must be finite and >= 0");
   return verify.IsValid(error);

@@ -15,12 +15,20 @@ namespace saccade {
 /// paper's Table 1 values and are used as given only with radii_from_model off
 /// (configs/paper.yaml, Paper()).
 struct RecognitionOptions {
-  int scene_normal_neighbors = 10;            // k_ns
-  float scene_keypoint_radius_m = 0.03f;      // r_ks (plain recognition only)
-  float scene_shot_radius_m = 0.02f;          // r_ss
-  float scene_lrf_radius_m = 0.015f;          // r_ls
-  int model_normal_neighbors = 10;            // k_nm
-  float model_keypoint_radius_m = 0.01f;      // r_km
+  int scene_normal_neighbors = 10;        // k_ns
+  float scene_keypoint_radius_m = 0.03f;  // r_ks (plain recognition only)
+  float scene_shot_radius_m = 0.02f;      // r_ss
+  float scene_lrf_radius_m = 0.015f;      // r_ls
+  int model_normal_neighbors = 10;        // k_nm
+  float model_keypoint_radius_m = 0.01f;  // r_km
+  // A whole-surface model (from a mesh) is described as a Kinect would capture it from this many
+  // viewpoints around it, this far from its centre, with this depth noise at 1 m (x z²).
+  int model_views = 20;
+  float model_view_distance_m = 0.9f;
+  float model_view_noise_m = 0.0015f;
+  // ... and its keypoints whose SHOT support lies within this share of the SHOT radius of a
+  // plane (RMS) are left out: a flat patch matches every table and wall.
+  float model_min_relief = 0.1f;
   float model_shot_radius_m = 0.02f;          // r_sm
   float model_lrf_radius_m = 0.015f;          // r_lm
   float max_descriptor_sqr_distance = 0.25f;  // d²_max: accept a match below this
@@ -78,6 +86,10 @@ struct RecognitionOptions {
     a->Visit("scene_lrf_radius_m", &scene_lrf_radius_m);
     a->Visit("model_normal_neighbors", &model_normal_neighbors);
     a->Visit("model_keypoint_radius_m", &model_keypoint_radius_m);
+    a->Visit("model_views", &model_views);
+    a->Visit("model_view_distance_m", &model_view_distance_m);
+    a->Visit("model_view_noise_m", &model_view_noise_m);
+    a->Visit("model_min_relief", &model_min_relief);
     a->Visit("model_shot_radius_m", &model_shot_radius_m);
     a->Visit("model_lrf_radius_m", &model_lrf_radius_m);
     a->Visit("max_descriptor_sqr_distance", &max_descriptor_sqr_distance);
