@@ -91,4 +91,46 @@ bool ReadTruthFile(const std::string& path, std::vector<TruthRow>* rows, std::st
   return true;
 }
 
+bool ReadPoseTable(const std::string& path, std::map<int, Eigen::Isometry3f>* poses,
+                   std::string* error) {
+  std::ifstream in(path);
+  if (!in) return Fail(error, path + ": cannot open");
+  std::string header = "frame";
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) header += ",T" + std::to_string(r) + std::to_string(c);
+  std::string line;
+  if (!std::getline(in, line) || line != header)
+    return Fail(error, path + ": line 1: expected the header '" + header + "'");
+  poses->clear();
+  for (int number = 2; std::getline(in, line); ++number) {
+    if (line.empty()) continue;
+    const std::string at = path + ": line " + std::to_string(number) + ": ";
+    std::istringstream fields(line);
+    std::string cell;
+    std::vector<double> v;
+    while (std::getline(fields, cell, ',')) {
+      char* end = nullptr;
+      const double x = std::strtod(cell.c_str(), &end);
+      if (cell.empty() || *end != '\0' || !std::isfinite(x)) break;
+      v.push_back(x);
+    }
+    if (v.size() != 17) return Fail(error, at + "expected 17 numbers (frame, T00..T33)");
+    if (!(v[0] >= 0 && v[0] <= 1e9 && v[0] == std::floor(v[0])))
+      return Fail(error, at + "the frame must be a whole number >= 0");
+    Eigen::Matrix4d T;
+    for (int i = 0; i < 16; ++i) T(i / 4, i % 4) = v[std::size_t(i) + 1];
+    const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+    if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-3 ||
+        R.determinant() < 0 || T.row(3).cwiseAbs().sum() - 1 > 1e-6 || T(3, 3) != 1 ||
+        T.col(3).head<3>().cwiseAbs().maxCoeff() > 1e6)
+      return Fail(error, at + "not a rigid transform (a rotation and a translation)");
+    Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+    pose.linear() = Eigen::Quaterniond(R).normalized().toRotationMatrix().cast<float>();
+    pose.translation() = T.col(3).head<3>().cast<float>();
+    if (!poses->emplace(int(v[0]), pose).second)
+      return Fail(error, at + "frame " + std::to_string(int(v[0])) + " is given twice");
+  }
+  return true;
+}
+
 }  // namespace saccade

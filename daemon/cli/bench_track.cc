@@ -19,10 +19,12 @@
 #include "io/json.h"
 #include "io/log.h"
 #include "io/memory_bus.h"
+#include "io/truth_file.h"
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <ostream>
 #include <utility>
@@ -38,6 +40,40 @@ struct Tally {
   /// tracking with its re-checks, without the searches.
   LatencyHistogram tracking_frame_ms;
 };
+
+// The 24 turns of a cube onto itself (its frame's axes onto each other, keeping handedness).
+std::vector<Eigen::Matrix4f> CubeRotations() {
+  std::vector<Eigen::Matrix4f> out;
+  const int order[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  for (const auto& o : order)
+    for (int signs = 0; signs < 8; ++signs) {
+      Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
+      m.topLeftCorner<3, 3>().setZero();
+      for (int r = 0; r < 3; ++r) m(r, o[r]) = (signs >> r) & 1 ? -1.f : 1.f;
+      if (m.topLeftCorner<3, 3>().determinant() > 0) out.push_back(m);
+    }
+  return out;
+}
+
+// The pose error of a model placed at `model_in_object` in an object whose truth is `truth`,
+// the object turned by whichever of `turns` brings it nearest in rotation.
+PoseError LeastError(const Eigen::Matrix4f& estimate, const Eigen::Matrix4f& truth,
+                     const Eigen::Matrix4f& model_in_object, const Eigen::Vector3f& centre,
+                     const std::vector<Eigen::Matrix4f>& turns) {
+  PoseError best{0, 1e9};
+  for (const Eigen::Matrix4f& turn : turns) {
+    const PoseError e = ComparePoses(estimate, truth * turn * model_in_object, centre);
+    if (e.rotation_deg < best.rotation_deg) best = e;
+  }
+  return best;
+}
+
+// The p-th quantile (0..1) of `v` (sorted here), -1 when empty.
+double Quantile(std::vector<double> v, double p) {
+  if (v.empty()) return -1;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, std::size_t(p * double(v.size())))];
+}
 
 }  // namespace
 
@@ -63,7 +99,17 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       .Value("tolerance-deg", "D", "... and D degrees of the truth" + Args::Default(kToleranceDeg))
       .Value("wrong-cm", "W",
              "a detection over W centimetres off is on a wrong place" + Args::Default(kWrongCm))
-      .Value("frames-out", "F.jsonl", "write one JSON line a frame");
+      .Value("frames-out", "F.jsonl", "write one JSON line a frame")
+      .Value("truth", "FILE.csv",
+             "the target's pose per frame (frame,T00..T33, the camera frame), for a source "
+             "that carries none (a recording by others); frames without a row are not scored")
+      .Value("model-from-frame", "N",
+             "with --truth: the model was cut from frame N and kept in that frame's camera "
+             "frame (saccade segment), so its truth at frame i is the table's pose at i times "
+             "the inverse of frame N's")
+      .Value("symmetry", "cube",
+             "the target looks the same turned onto any of its frame's axes: its rotation "
+             "error is the least over those turns");
   if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
   if (!args.Has("source") || !args.Has("model"))
@@ -80,6 +126,25 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
   if (!rate || !tol_cm || !tol_deg || !wrong_cm)
     return Usage(err, "bench-track",
                  "--rate, --tolerance-cm, --tolerance-deg and --wrong-cm expect numbers > 0");
+  if (args.Has("symmetry") && args.Get("symmetry") != "cube")
+    return Usage(err, "bench-track", "--symmetry knows cube only");
+  std::map<int, Eigen::Isometry3f> truth_table;
+  if (args.Has("truth") && !ReadPoseTable(args.Get("truth"), &truth_table, &error)) {
+    err << "saccade bench-track: " << error << "\n";
+    return kExitFailure;
+  }
+  // The turns that leave the target looking the same (the identity alone unless --symmetry),
+  // about the object's own frame; and where the model's frame is in the object's.
+  std::vector<Eigen::Matrix4f> turns{Eigen::Matrix4f::Identity()};
+  if (args.Has("symmetry")) turns = CubeRotations();
+  Eigen::Matrix4f model_in_object = Eigen::Matrix4f::Identity();
+  if (args.Has("model-from-frame")) {
+    const auto n = Args::ParseNumber(args.Get("model-from-frame"));
+    const auto row = n ? truth_table.find(int(*n)) : truth_table.end();
+    if (!args.Has("truth") || row == truth_table.end() || *n != std::floor(*n))
+      return Usage(err, "bench-track", "--model-from-frame expects a frame of the --truth table");
+    model_in_object = row->second.inverse().matrix();
+  }
   DaemonSettings settings;
   if (args.Has("config") && !LoadDaemonSettings(args.Get("config"), &settings, &error)) {
     err << "saccade bench-track: " << error << "\n";
@@ -87,6 +152,8 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
   }
   // Model j is scored against the frame's truth j: the target, then the sequence's others.
   settings.models = Args::ParseList(args.Get("model"));
+  if (args.Has("truth") && settings.models.size() != 1)
+    return Usage(err, "bench-track", "--truth scores one model: give one --model");
   ConfigureLog("saccade bench-track", LogLevel::kWarning);
   std::unique_ptr<FrameSource> source = OpenSource(args.Get("source"), &error);
   if (!source) {
@@ -160,7 +227,9 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       const std::size_t j = static_cast<std::size_t>(inst.model);
       ObjectOutcome& oo = o.objects[j];
       const PoseError e =
-          ComparePoses(inst.model_to_scene, truth_of(truth, j).pose.matrix(), centres[j]);
+          j == 0 ? LeastError(inst.model_to_scene, truth.target_pose.matrix(), model_in_object,
+                              centres[j], turns)
+                 : ComparePoses(inst.model_to_scene, truth_of(truth, j).pose.matrix(), centres[j]);
       if (oo.error_cm < 0 || e.translation_m * 100 < oo.error_cm) {
         oo.error_cm = e.translation_m * 100;
         oo.error_deg = e.rotation_deg;
@@ -180,6 +249,17 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       return kExitFailure;
     }
     if (st != FrameSource::Status::kFrame) break;
+    if (args.Has("truth")) {  // the table's row, or nothing to score this frame against
+      GroundTruth g;
+      const auto row = truth_table.find(int(i));
+      if (row != truth_table.end()) {
+        g.target_pose = row->second;
+        g.centroid_m =
+            (row->second.matrix() * model_in_object * centres[0].homogeneous()).head<3>();
+        g.visible_fraction = 1;
+      }
+      frame.truth = g;
+    }
     if (!frame.truth) {
       err << "saccade bench-track: " << args.Get("source") << ": frame " << i
           << " carries no truth\n";
@@ -262,6 +342,13 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       t.max_reacquire = std::max(t.max_reacquire, since_appeared);
     }
   }
+  // The target's error in its visible frames where a pose was held.
+  std::vector<double> error_cm, error_deg;
+  for (const Outcome& o : outcomes)
+    if (o.objects[0].visible && o.objects[0].error_cm >= 0) {
+      error_cm.push_back(o.objects[0].error_cm);
+      error_deg.push_back(o.objects[0].error_deg);
+    }
   const std::string name = args.Get("name", args.Get("source"));
   const double share = t.visible > 0 ? double(t.within) / t.visible : 0;
   char line[400];
@@ -297,6 +384,16 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       .Value(t.max_reacquire)
       .Key("never_reacquired")
       .Value(t.never_reacquired)
+      .Key("target_frames_with_pose")
+      .Value(error_cm.size())
+      .Key("error_cm_p50")
+      .Value(Quantile(error_cm, 0.5))
+      .Key("error_cm_p90")
+      .Value(Quantile(error_cm, 0.9))
+      .Key("error_deg_p50")
+      .Value(Quantile(error_deg, 0.5))
+      .Key("error_deg_p90")
+      .Value(Quantile(error_deg, 0.9))
       .Key("wrong_object_frames")
       .Value(t.wrong)
       .Key("recognized_frames")

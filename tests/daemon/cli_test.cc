@@ -799,6 +799,52 @@ TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
       EXPECT_FALSE(std::filesystem::exists(out + "/overlays/" + name + "-" + config + ".png"));
 }
 
+// Tracking scored against a pose table recorded by others: the ViSP cube (../shared/data/visp_rbt),
+// its model cut from the first frame as a user would, from a cold start, every frame processed
+// (a rate so low that none is dropped, so the counts do not depend on this machine's speed).
+TEST(Cli, BenchTrackScoresTheVispCubeAgainstItsTruthTable) {
+  SACCADE_REQUIRE_DATA("visp_rbt/truth_cube.csv");
+  const std::string dir = ::testing::TempDir() + "visp_bench";
+  std::filesystem::remove_all(dir);
+  const std::string frames = saccade::testing::DataPath("visp_rbt/frames");
+  ASSERT_EQ(Saccade("record --source depth:" + frames + " --out " + dir + " --frames 1").code, 0);
+  ASSERT_EQ(Saccade("segment --scene " + dir + "/frame_000000.pcd --out " + dir +
+                    "/cube.pcd --z-max 0.8 --pick nearest")
+                .code,
+            0);
+  const std::string truth = saccade::testing::DataPath("visp_rbt/truth_cube.csv");
+  const std::string common = "bench-track --source depth:" + frames + " --model " + dir +
+                             "/cube.pcd --rate 0.001 --tolerance-cm 2 --tolerance-deg 5 ";
+  const CliRun r = Saccade(common + "--truth " + truth + " --model-from-frame 0 --symmetry cube");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto number = [&](const std::string& key) {
+    const auto at = r.out.find("\"" + key + "\":");
+    return at == std::string::npos ? -1.0 : std::atof(r.out.c_str() + at + key.size() + 3);
+  };
+  EXPECT_EQ(number("visible_frames"), 99) << r.out;
+  EXPECT_GE(number("tracked_frames"), 50) << r.out;  // 64 today, at 30 Hz as at any rate
+  EXPECT_LE(number("wrong_object_frames"), 2) << r.out;
+  EXPECT_GT(number("error_cm_p50"), 0) << r.out;
+  EXPECT_LT(number("error_cm_p50"), 2) << r.out;
+  EXPECT_LT(number("error_deg_p50"), 5) << r.out;
+  // Scored against the wrong frame of reference (the model taken for the cube's own frame), no
+  // frame is within the tolerance: the table is what the counts come from.
+  const CliRun wrong = Saccade(common + "--truth " + truth + " --symmetry cube");
+  ASSERT_EQ(wrong.code, 0) << wrong.out;
+  EXPECT_NE(wrong.out.find("\"tracked_frames\":0,"), std::string::npos) << wrong.out;
+  // A bad table is one line naming its file and line; a frame it lacks is a usage error.
+  const std::string bad = WriteFile("bad_truth.csv", "frame,T00\n0,1\n");
+  const CliRun b = Saccade(common + "--truth " + bad);
+  EXPECT_EQ(b.code, 1);
+  EXPECT_EQ(Lines(b.out), 1) << b.out;
+  EXPECT_NE(b.out.find("bad_truth.csv: line 1: expected the header"), std::string::npos) << b.out;
+  const CliRun f = Saccade(common + "--truth " + truth + " --model-from-frame 500");
+  EXPECT_EQ(f.code, 2) << f.out;
+  EXPECT_NE(f.out.find("--model-from-frame expects a frame of the --truth table"),
+            std::string::npos)
+      << f.out;
+}
+
 // Eight cases of the cross-capture benchmark (../shared/data/mosd_xcap), one of them infeasible
 // (the captures see different sides): Saccade's defaults, the fovea on the object (protocol a)
 // and 15 cm off it (b). The counts are those of the whole-set run in docs/RESULTS.md.
