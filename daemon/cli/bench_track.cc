@@ -184,6 +184,8 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
   struct ObjectOutcome {
     bool visible = false, good = false, wrong = false;
     double error_cm = -1, error_deg = -1;  // the held instance nearest the truth
+    // That instance's pose and the model's truth (when error_cm >= 0); unaligned in a vector.
+    Eigen::Matrix<float, 4, 4, Eigen::DontAlign> pose, truth;
   };
   struct Outcome {
     bool processed = false;
@@ -233,6 +235,9 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       if (oo.error_cm < 0 || e.translation_m * 100 < oo.error_cm) {
         oo.error_cm = e.translation_m * 100;
         oo.error_deg = e.rotation_deg;
+        oo.pose = inst.model_to_scene;
+        oo.truth = j == 0 ? Eigen::Matrix4f(truth.target_pose.matrix() * model_in_object)
+                          : truth_of(truth, j).pose.matrix();
       }
       if (e.translation_m * 100 <= *tol_cm && e.rotation_deg <= *tol_deg) oo.good = true;
       if (e.translation_m * 100 > *wrong_cm) oo.wrong = true;
@@ -349,6 +354,25 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       error_cm.push_back(o.objects[0].error_cm);
       error_deg.push_back(o.objects[0].error_deg);
     }
+  // Its error frame to frame: between two frames in a row that both held it, how far its
+  // motion (centroid shift, turn) differs from the truth's. A truth with a slowly varying
+  // error of its own (a tag board's) cancels out of it; a symmetric object's turn too.
+  std::vector<double> step_cm, step_deg;
+  for (std::size_t i = 1; i < outcomes.size(); ++i) {
+    const ObjectOutcome &a = outcomes[i - 1].objects[0], &b = outcomes[i].objects[0];
+    if (a.error_cm < 0 || b.error_cm < 0) continue;
+    const Eigen::Vector3f c = centres[0];
+    const auto at = [&](const Eigen::Matrix4f& m) -> Eigen::Vector3f {
+      return (m * c.homogeneous()).head<3>();
+    };
+    const Eigen::Vector3f shift = at(b.pose) - at(a.pose), true_shift = at(b.truth) - at(a.truth);
+    step_cm.push_back(100.0 * (shift - true_shift).norm());
+    const Eigen::Matrix3f turn =
+        b.pose.topLeftCorner<3, 3>() * a.pose.topLeftCorner<3, 3>().transpose();
+    const Eigen::Matrix3f true_turn =
+        b.truth.topLeftCorner<3, 3>() * a.truth.topLeftCorner<3, 3>().transpose();
+    step_deg.push_back(Eigen::AngleAxisf(turn.transpose() * true_turn).angle() * 180.0 / M_PI);
+  }
   const std::string name = args.Get("name", args.Get("source"));
   const double share = t.visible > 0 ? double(t.within) / t.visible : 0;
   char line[400];
@@ -394,6 +418,16 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       .Value(Quantile(error_deg, 0.5))
       .Key("error_deg_p90")
       .Value(Quantile(error_deg, 0.9))
+      .Key("step_pairs")
+      .Value(step_cm.size())
+      .Key("step_error_cm_p50")
+      .Value(Quantile(step_cm, 0.5))
+      .Key("step_error_cm_p90")
+      .Value(Quantile(step_cm, 0.9))
+      .Key("step_error_deg_p50")
+      .Value(Quantile(step_deg, 0.5))
+      .Key("step_error_deg_p90")
+      .Value(Quantile(step_deg, 0.9))
       .Key("wrong_object_frames")
       .Value(t.wrong)
       .Key("recognized_frames")
