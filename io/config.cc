@@ -7,6 +7,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
+#include <type_traits>
 
 #include <functional>
 #include <map>
@@ -17,11 +19,22 @@ namespace {
 // Reads one value; throws YAML::Exception (caught below) on a type mismatch.
 using Setter = std::function<void(const YAML::Node&)>;
 
+// A number of type T (float or double); .nan and .inf are numbers to YAML but no setting's value.
+template <typename T>
+T FiniteNumber(const YAML::Node& n) {
+  const T v = n.as<T>();
+  if (!std::isfinite(v)) throw YAML::Exception(n.Mark(), "expected a finite number");
+  return v;
+}
+
 template <typename T>
 Setter Scalar(T* field) {
   return [field](const YAML::Node& n) {
     if (!n.IsScalar()) throw YAML::Exception(n.Mark(), "expected a scalar");
-    *field = n.as<T>();
+    if constexpr (std::is_floating_point_v<T>)
+      *field = FiniteNumber<T>(n);
+    else
+      *field = n.as<T>();
   };
 }
 
@@ -29,7 +42,7 @@ Setter Vector3(Eigen::Vector3f* field) {
   return [field](const YAML::Node& n) {
     if (!n.IsSequence() || n.size() != 3)
       throw YAML::Exception(n.Mark(), "expected a list of 3 numbers [x, y, z]");
-    for (int i = 0; i < 3; ++i) (*field)[i] = n[i].as<float>();
+    for (int i = 0; i < 3; ++i) (*field)[i] = FiniteNumber<float>(n[i]);
   };
 }
 
@@ -37,8 +50,11 @@ Setter Quaternion(Eigen::Quaternionf* field) {
   return [field](const YAML::Node& n) {
     if (!n.IsSequence() || n.size() != 4)
       throw YAML::Exception(n.Mark(), "expected a list of 4 numbers [w, x, y, z]");
-    *field =
-        Eigen::Quaternionf(n[0].as<float>(), n[1].as<float>(), n[2].as<float>(), n[3].as<float>());
+    const Eigen::Quaternionf q(FiniteNumber<float>(n[0]), FiniteNumber<float>(n[1]),
+                               FiniteNumber<float>(n[2]), FiniteNumber<float>(n[3]));
+    if (!(q.norm() > 1e-6f))
+      throw YAML::Exception(n.Mark(), "expected a rotation: [0, 0, 0, 0] turns nothing");
+    *field = q;
   };
 }
 
@@ -58,7 +74,7 @@ Setter Vector2(Eigen::Vector2f* field) {
   return [field](const YAML::Node& n) {
     if (!n.IsSequence() || n.size() != 2)
       throw YAML::Exception(n.Mark(), "expected a list of 2 numbers [x, z]");
-    for (int i = 0; i < 2; ++i) (*field)[i] = n[i].as<float>();
+    for (int i = 0; i < 2; ++i) (*field)[i] = FiniteNumber<float>(n[i]);
   };
 }
 
@@ -76,6 +92,31 @@ bool KeyText(const YAML::Node& key, const std::string& where, const std::string&
                            " is a list or a mapping, not a name");
   }
   *text = key.Scalar();
+  return true;
+}
+
+// A key given twice in one mapping, anywhere in the document, is refused (YAML forbids it;
+// yaml-cpp keeps both, and the last would silently win): false naming both lines.
+bool NoKeyTwice(const YAML::Node& node, const std::string& path, std::string* error,
+                int depth = 0) {
+  if (depth > 64) return Fail(error, path + ": nested more than 64 levels deep, not a config");
+  if (node.IsSequence()) {
+    for (const auto& item : node)
+      if (!NoKeyTwice(item, path, error, depth + 1)) return false;
+  } else if (node.IsMap()) {
+    std::map<std::string, int> seen;  // a scalar key -> its line
+    for (const auto& kv : node) {
+      if (kv.first.IsScalar()) {
+        const int line = kv.first.Mark().line + 1;
+        const auto [at, first] = seen.emplace(kv.first.Scalar(), line);
+        if (!first)
+          return Fail(error, path + ": line " + std::to_string(line) + ": key '" +
+                                 kv.first.Scalar() + "' is given twice (first on line " +
+                                 std::to_string(at->second) + ")");
+      }
+      if (!NoKeyTwice(kv.second, path, error, depth + 1)) return false;
+    }
+  }
   return true;
 }
 
@@ -165,7 +206,7 @@ bool LoadRoot(const std::string& path, YAML::Node* root, std::string* error) {
   if (!root->IsNull() && !root->IsMap()) {
     return Fail(error, path + ": top level must be a mapping");
   }
-  return true;
+  return NoKeyTwice(*root, path, error);
 }
 
 // clutter: a list replacing the preset's, each item

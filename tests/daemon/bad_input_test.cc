@@ -428,6 +428,15 @@ std::vector<BadInput> Corpus() {
   scenario("PresetAMapping", "preset:\n p t:\n", "key 'preset': expected a scenario's name");
   scenario("AMapForAKey", Scenario("{frames: 1}: 2\n"), "a key is a list or a mapping");
   scenario("AListForAKeyInASection", Scenario("noise: {[a]: 1}\n"), "in 'noise'");
+  // Issue 37: a key twice (the last would win), and numbers that are not finite, refused where
+  // the file is read.
+  scenario("KeyTwice", Scenario("frames: 3\nframes: 4\n"), "key 'frames' is given twice");
+  scenario("KeyTwiceInASection", Scenario("noise:\n  enabled: true\n  enabled: false\n"),
+           "key 'enabled' is given twice");
+  scenario("StartNaN", Scenario("target_motion: {kind: linear, start_xz_m: [.nan, 1]}\n"),
+           "key 'target_motion.start_xz_m': wrong type (expected a finite number)");
+  scenario("YawInfinite", Scenario("target_motion: {yaw_rad: -.inf}\n"),
+           "key 'target_motion.yaw_rad': wrong type (expected a finite number)");
 
   // Recognition configurations (--config).
   auto config = [&](const std::string& name, const std::string& yaml, const std::string& says) {
@@ -450,6 +459,13 @@ std::vector<BadInput> Corpus() {
   config("NotYaml", "recognition: {a: [}\n", "line");
   config("TabIndent", "recognition:\n\tcluster_size: 3\n", "line");
   config("AMapForAKey", "recognition: {{cluster_size: 3}: 4}\n", "in 'recognition'");
+  config("SectionTwice", "recognition: {hough_threshold: 5}\nrecognition: {hough_threshold: 6}\n",
+         "$D/c.yaml: line 2: key 'recognition' is given twice (first on line 1)");
+  config("KeyTwiceInASection", "recognition:\n  hough_threshold: 5\n  hough_threshold: 6\n",
+         "$D/c.yaml: line 3: key 'hough_threshold' is given twice (first on line 2)");
+  config("ZeroQuaternion", "fovea: {outer_orientation: [0, 0, 0, 0]}\n",
+         "key 'fovea.outer_orientation': wrong type (expected a rotation: [0, 0, 0, 0] turns "
+         "nothing)");
   config("IsAFolder", "", "$D/c.yaml");
   c.back().files = {{"m.pcd", good}, {"c.yaml/", ""}};
   add("ConfigMissing", model_ok,
