@@ -4,7 +4,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release -DSACCADE_WERROR=ON
 
-.PHONY: all deps configure build package install demo test bench bench-stages bench-daemon bench-track eval-xcap \
+.PHONY: all deps configure build package install demo test bench bench-stages bench-daemon bench-track bench-peer eval-xcap \
         eval-xcap-search eval-xcap-ppf fuzz asan-build test-asan soak clean
 
 all: build
@@ -56,6 +56,11 @@ bench-daemon: build
 # there) at 30 Hz: tracked share, re-acquisition, drops; JSON lines last. docs/BENCHMARKS.md.
 bench-track: build
 	@./scripts/bench-track.sh $(BUILD_DIR)
+
+# ViSP's model-based tracker (installed from Debian when missing) beside Saccade's on the ViSP
+# cube's real frames: error and time per frame of each. docs/BENCHMARKS.md.
+bench-peer: build
+	@./scripts/bench-peer.sh $(BUILD_DIR)
 
 # The cross-capture benchmark (needs ../shared/data/mosd_xcap), all three protocols, with the
 # stock PCL peer: writes eval-xcap/report.md, the tables of docs/RESULTS.md (about 20 minutes).

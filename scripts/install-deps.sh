@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages Saccade builds and runs with, when any is missing.
+# Installs the Debian 12 packages Saccade builds and runs with, when any is missing, and any
+# further packages named as arguments (an optional benchmark's: scripts/bench-peer.sh).
 # Idempotent: does nothing (and needs no network) when everything is already there.
 set -euo pipefail
 
@@ -18,6 +19,7 @@ packages=(
 # saccade view's 3D view comes from npm (three.js); any npm will do (Debian's, or one that came
 # with another Node.js).
 command -v npm >/dev/null 2>&1 || packages+=(npm)
+packages+=("$@")
 
 missing=()
 for p in "${packages[@]}"; do

@@ -7,6 +7,7 @@
 // re-acquisition, frames held on a wrong place, and the costs; the last line is one JSON object.
 // Several models (--model A,B,...) are scored each against its own truth: the sequence's
 // target, then its others.
+#include "core/eval/pose_scoring.h"
 #include "core/fail.h"
 #include "core/recognition.h"
 #include "daemon/args.h"
@@ -40,40 +41,6 @@ struct Tally {
   /// tracking with its re-checks, without the searches.
   LatencyHistogram tracking_frame_ms;
 };
-
-// The 24 turns of a cube onto itself (its frame's axes onto each other, keeping handedness).
-std::vector<Eigen::Matrix4f> CubeRotations() {
-  std::vector<Eigen::Matrix4f> out;
-  const int order[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  for (const auto& o : order)
-    for (int signs = 0; signs < 8; ++signs) {
-      Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
-      m.topLeftCorner<3, 3>().setZero();
-      for (int r = 0; r < 3; ++r) m(r, o[r]) = (signs >> r) & 1 ? -1.f : 1.f;
-      if (m.topLeftCorner<3, 3>().determinant() > 0) out.push_back(m);
-    }
-  return out;
-}
-
-// The pose error of a model placed at `model_in_object` in an object whose truth is `truth`,
-// the object turned by whichever of `turns` brings it nearest in rotation.
-PoseError LeastError(const Eigen::Matrix4f& estimate, const Eigen::Matrix4f& truth,
-                     const Eigen::Matrix4f& model_in_object, const Eigen::Vector3f& centre,
-                     const std::vector<Eigen::Matrix4f>& turns) {
-  PoseError best{0, 1e9};
-  for (const Eigen::Matrix4f& turn : turns) {
-    const PoseError e = ComparePoses(estimate, truth * turn * model_in_object, centre);
-    if (e.rotation_deg < best.rotation_deg) best = e;
-  }
-  return best;
-}
-
-// The p-th quantile (0..1) of `v` (sorted here), -1 when empty.
-double Quantile(std::vector<double> v, double p) {
-  if (v.empty()) return -1;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, std::size_t(p * double(v.size())))];
-}
 
 }  // namespace
 
@@ -361,17 +328,9 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
   for (std::size_t i = 1; i < outcomes.size(); ++i) {
     const ObjectOutcome &a = outcomes[i - 1].objects[0], &b = outcomes[i].objects[0];
     if (a.error_cm < 0 || b.error_cm < 0) continue;
-    const Eigen::Vector3f c = centres[0];
-    const auto at = [&](const Eigen::Matrix4f& m) -> Eigen::Vector3f {
-      return (m * c.homogeneous()).head<3>();
-    };
-    const Eigen::Vector3f shift = at(b.pose) - at(a.pose), true_shift = at(b.truth) - at(a.truth);
-    step_cm.push_back(100.0 * (shift - true_shift).norm());
-    const Eigen::Matrix3f turn =
-        b.pose.topLeftCorner<3, 3>() * a.pose.topLeftCorner<3, 3>().transpose();
-    const Eigen::Matrix3f true_turn =
-        b.truth.topLeftCorner<3, 3>() * a.truth.topLeftCorner<3, 3>().transpose();
-    step_deg.push_back(Eigen::AngleAxisf(turn.transpose() * true_turn).angle() * 180.0 / M_PI);
+    const PoseError e = StepError(a.pose, b.pose, a.truth, b.truth, centres[0]);
+    step_cm.push_back(100 * e.translation_m);
+    step_deg.push_back(e.rotation_deg);
   }
   const std::string name = args.Get("name", args.Get("source"));
   const double share = t.visible > 0 ? double(t.within) / t.visible : 0;
