@@ -20,6 +20,20 @@ namespace {
 const char* const kUnitlessHeader =
     "sequence,capture_utime,tx,ty,tz,qw,qx,qy,qz,cx,cy,cz,visible_fraction";
 
+// The leading numbers of a CSV line, up to the first cell that is not a finite number.
+std::vector<double> CsvNumbers(const std::string& line) {
+  std::istringstream fields(line);
+  std::string cell;
+  std::vector<double> v;
+  while (std::getline(fields, cell, ',')) {
+    char* end = nullptr;
+    const double x = std::strtod(cell.c_str(), &end);
+    if (cell.empty() || *end != '\0' || !std::isfinite(x)) break;
+    v.push_back(x);
+  }
+  return v;
+}
+
 }  // namespace
 
 std::string TruthCsvRow(const TruthRow& row) {
@@ -46,15 +60,7 @@ bool ReadTruthFile(const std::string& path, std::vector<TruthRow>* rows, std::st
   rows->clear();
   for (int number = 2; std::getline(in, line); ++number) {
     if (line.empty()) continue;
-    std::istringstream fields(line);
-    std::string cell;
-    std::vector<double> v;
-    while (std::getline(fields, cell, ',')) {
-      char* end = nullptr;
-      const double x = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || *end != '\0' || !std::isfinite(x)) break;
-      v.push_back(x);
-    }
+    const std::vector<double> v = CsvNumbers(line);
     if (v.size() != 13) {
       return Fail(error, path + ": line " + std::to_string(number) + ": expected 13 numbers");
     }
@@ -105,15 +111,7 @@ bool ReadPoseTable(const std::string& path, std::map<int, Eigen::Isometry3f>* po
   for (int number = 2; std::getline(in, line); ++number) {
     if (line.empty()) continue;
     const std::string at = path + ": line " + std::to_string(number) + ": ";
-    std::istringstream fields(line);
-    std::string cell;
-    std::vector<double> v;
-    while (std::getline(fields, cell, ',')) {
-      char* end = nullptr;
-      const double x = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || *end != '\0' || !std::isfinite(x)) break;
-      v.push_back(x);
-    }
+    const std::vector<double> v = CsvNumbers(line);
     if (v.size() != 17) return Fail(error, at + "expected 17 numbers (frame, T00..T33)");
     if (!(v[0] >= 0 && v[0] <= 1e9 && v[0] == std::floor(v[0])))
       return Fail(error, at + "the frame must be a whole number >= 0");
