@@ -454,9 +454,9 @@ TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
 
   // A good new config that no instance can pass: the target is lost from then on.
   fs::copy_file(kSourceDir + "/configs/demo.yaml", config, fs::copy_options::overwrite_existing);
-  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 1\n"
-                                       << "attention:\n  growth_step: 0.05\n  growth_max_m: 0.1\n";
-  std::string text = ReadFile(config);
+  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 1\n";
+  std::string text = ReadFile(config);  // a key is given once: demo.yaml's are changed in place
+  text.replace(text.find("growth_max_m: 1.0"), 17, "growth_max_m: 0.1");
   text.replace(text.find("hough_threshold: 15"), 19, "hough_threshold: 100000");
   text.replace(text.find("consensus_min_votes: 15"), 23, "consensus_min_votes: 100000");
   std::ofstream(config) << text;
@@ -480,8 +480,8 @@ TEST(Saccaded, AModelFileRemovedBeforeAReloadKeepsTheLoadedModelTracking) {
   ASSERT_TRUE(saccade::SaveCloud(model, saccade::SyntheticTargetModel(1), &error)) << error;
   const std::string config = box.Path("saccaded.yaml");
   fs::copy_file(kSourceDir + "/configs/demo.yaml", config);
-  std::ofstream(config, std::ios::app)
-      << "pipeline:\n  frames_in_flight: 1\nservice:\n  summary: line\n";
+  // demo.yaml's service section already says `summary: line`; a key is given once.
+  std::ofstream(config, std::ios::app) << "pipeline:\n  frames_in_flight: 1\n";
   Child daemon = Spawn({kSaccaded, "--config", config, "--model", model, "--source",
                         "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
                        box.Path("out"), box.Path("err"));
@@ -925,7 +925,12 @@ TEST(Saccaded, BadConfigFilesStopItWithFileKeyAndReason) {
       {"model: synthetic:target\nrecognition:\n  max_support_half_window_px: 2147483647\n",
        "max_support_half_window_px must be from 0 to 1000"},
       {"model: synthetic:target\nservice:\n  status_period_s: .inf\n",
+       "key 'service.status_period_s': wrong type (expected a finite number)"},
+      {"model: synthetic:target\nservice:\n  status_period_s: 1e9\n",
        "status_period_s must be from 0.05 to 3600"},
+      // A key given twice: refused, where the last one used to win (issue 37).
+      {"model: synthetic:target\nservice:\n  summary: line\nservice:\n  summary: off\n",
+       "line 4: key 'service' is given twice (first on line 2)"},
       {"model: synthetic:target\nlcm:\n  channel_prefix: " + std::string(60, 'A') + "\n",
        "channel_prefix must be 1 to 52 characters"},
       {"model: [\n", "line"},
