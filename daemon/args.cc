@@ -158,6 +158,7 @@ std::string Args::Check(const std::vector<std::string>& argv) const {
   }
   for (std::size_t i = 0; i < argv.size(); ++i) {
     const std::string& a = argv[i];
+    if (a == "-h") continue;  // --help's short form, which CLI11 answers
     const std::string name = FlagName(a);
     const bool inline_value = a.find('=') != std::string::npos;
     if (!name.empty()) {
@@ -178,7 +179,7 @@ std::string Args::Check(const std::vector<std::string>& argv) const {
           return "flag --" + name + " needs a value (" + spec->value + ")";
         ++i;
       }
-    } else if (a.size() > 1 && a[0] == '-' && !ParseNumber(a) && a != "-h") {
+    } else if (a.size() > 1 && a[0] == '-' && !ParseNumber(a)) {
       return "unknown flag " + a;
     } else if (positionals == 0) {
       return "unexpected argument '" + a + "'";

@@ -72,6 +72,10 @@ TEST(Cli, EveryCommandsHelpListsFlagsItAccepts) {
     EXPECT_EQ(help.code, 0);
     EXPECT_EQ(help.out.rfind("usage: saccade " + command, 0), 0u) << help.out;
     EXPECT_EQ(help.out, Saccade("help " + command).out);
+    // -h is --help, as the help says (issue 37: it was an unexpected argument, exit 2).
+    const CliRun short_help = Saccade(command + " -h");
+    EXPECT_EQ(short_help.code, 0) << short_help.out;
+    EXPECT_EQ(short_help.out, help.out);
     const std::vector<std::string> flags = HelpFlags(help.out);
     EXPECT_GE(flags.size(), 2u) << help.out;  // --version at least, and the command's own
     for (const std::string& flag : flags) {
@@ -135,16 +139,21 @@ TEST(Cli, ModelMakesAWholeSurfaceModelOfAMeshAndRefusesABrokenOne) {
 }
 
 TEST(Cli, DaemonHelpListsItsFlagsSignalsAndExitCodes) {
-  const std::string cmd = std::string(SACCADED_BINARY) + " --help 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  EXPECT_EQ(pclose(pipe), 0);
+  const auto help = [](const std::string& flag) {
+    const std::string cmd = std::string(SACCADED_BINARY) + " " + flag + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    std::string out;
+    std::array<char, 4096> buf{};
+    while (std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+    EXPECT_EQ(pclose(pipe), 0) << flag;
+    return out;
+  };
+  const std::string out = help("--help");
   for (const char* flag : {"--config", "--source", "--model", "--lcm-url", "--version"})
     EXPECT_NE(out.find(flag), std::string::npos) << flag << "\n" << out;
   EXPECT_NE(out.find("SIGHUP"), std::string::npos);
   EXPECT_NE(out.find("exit codes"), std::string::npos);
+  EXPECT_EQ(help("-h"), out);  // as the help says (issue 37: it was refused)
 }
 
 TEST(Cli, VersionNamesTheCommitAndTheLibraries) {
