@@ -131,11 +131,8 @@ MeshModel RenderMeshModel(const Mesh& mesh, const MeshViewOptions& options) {
   for (const Eigen::Vector3f& v : mesh.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
   const Eigen::Vector3f centre = (lo + hi) / 2;
   const float radius = (hi - lo).norm() / 2;
-  // Far enough that the whole mesh fits in the image from every side.
   const CameraIntrinsics& k = options.intrinsics;
-  const float fit =
-      radius * float(std::max(k.fx, k.fy)) / (0.45f * float(std::min(k.width, k.height)));
-  const float distance = std::max(options.distance_m, fit + radius);
+  const float distance = ViewDistance(radius, k, options.distance_m);
   std::vector<Eigen::Vector3f> face_normal(mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];

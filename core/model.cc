@@ -160,8 +160,7 @@ Descriptors DescribeViews(const Cloud& surface, const ModelScale& scale,
   const Eigen::Vector3f centre = (box.min + box.max) / 2;
   const CameraIntrinsics kinect;
   // Near enough for the sensor's density, far enough that the whole model is in the image.
-  const float fit = box.Size().norm() / 2 * float(kinect.fx) / (0.45f * float(kinect.height));
-  const float distance = std::max(options.model_view_distance_m, fit);
+  const float distance = ViewDistance(box.Size().norm() / 2, kinect, options.model_view_distance_m);
   const float disc = 1.5f * std::max(scale.spacing_m, 1e-4f);  // no gaps between the points
   const DescribeOptions describe = ModelDescribeOptions(options);
   Descriptors out;
@@ -233,10 +232,10 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
   const Eigen::Vector3f origin = out.cloud_.sensor_origin_.head<3>();
   const bool whole_surface =
       (origin.array() > box.min.array()).all() && (origin.array() < box.max.array()).all();
-  const DescribeOptions describe = ModelDescribeOptions(options);
   if (whole_surface) {
     out.descriptors_ = DescribeViews(out.cloud_, out.scale_, options, &normals);
   } else {
+    const DescribeOptions describe = ModelDescribeOptions(options);
     std::vector<int> all(out.cloud_.size());
     std::iota(all.begin(), all.end(), 0);
     const std::vector<int> keypoints =

@@ -33,6 +33,12 @@ Eigen::Matrix4f LookAt(const Eigen::Vector3f& eye, const Eigen::Vector3f& target
   return pose;
 }
 
+float ViewDistance(float radius_m, const CameraIntrinsics& k, float at_least_m) {
+  const float fit =
+      radius_m * float(std::max(k.fx, k.fy)) / (0.45f * float(std::min(k.width, k.height)));
+  return std::max(at_least_m, fit + radius_m);
+}
+
 SurfaceView RenderSurface(const Cloud& surface, const std::vector<Eigen::Vector3f>& normals,
                           const CameraIntrinsics& k, const Eigen::Matrix4f& camera_to_surface,
                           float disc_radius_m, float noise_at_1m_m, unsigned seed) {

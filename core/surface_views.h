@@ -21,6 +21,11 @@ std::vector<Eigen::Vector3f> SphereDirections(int n);
 /// camera-to-world.
 Eigen::Matrix4f LookAt(const Eigen::Vector3f& eye, const Eigen::Vector3f& target);
 
+/// How far from the centre of an object within `radius_m` of it a camera with `intrinsics`
+/// stands to see all of it from any side (within 90% of the image's shorter side), and at least
+/// `at_least_m`.
+float ViewDistance(float radius_m, const CameraIntrinsics& intrinsics, float at_least_m);
+
 /// What a camera sees of a whole surface: its pixels' points (camera frame), each with the
 /// index of the surface point whose disc it lies on.
 struct SurfaceView {

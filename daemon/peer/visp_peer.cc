@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -94,7 +95,9 @@ int Run(int argc, char** argv) {
     std::cerr << "saccade-visp-peer: " << args.Get("truth") << ": no pose for frame 0\n";
     return kExitFailure;
   }
-  const std::string cao = "/tmp/saccade-visp-peer-" + std::to_string(getpid()) + ".cao";
+  const std::string cao = (std::filesystem::temp_directory_path() /
+                           ("saccade-visp-peer-" + std::to_string(getpid()) + ".cao"))
+                              .string();
   if (!WriteCao(*mesh, cao)) {
     std::cerr << "saccade-visp-peer: cannot write " << cao << "\n";
     return kExitFailure;
