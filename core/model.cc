@@ -207,42 +207,77 @@ Descriptors DescribeViews(const Cloud& surface, const ModelScale& scale,
 
 std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& given,
                                               std::string* error) {
+  return DescribeModel(std::vector<Cloud>{model}, given, error);
+}
+
+std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>& views,
+                                              const RecognitionOptions& given, std::string* error) {
   ModelDescription out;
-  out.scale_ = MeasureModel(model);
-  const RecognitionOptions options = RadiiForModel(given, out.scale_);
-  // Only finite points make the model; its frame and units stay those of the file.
-  for (const auto& p : model.points)
-    if (FinitePoint(p)) out.cloud_.push_back(p);
+  // Only finite points make the model; its frame and units stay those of the file. Each view's
+  // points follow the previous view's: view v is [starts[v], starts[v + 1]).
+  std::vector<std::size_t> starts{0};
+  for (const Cloud& view : views) {
+    for (const auto& p : view.points)
+      if (FinitePoint(p)) out.cloud_.push_back(p);
+    starts.push_back(out.cloud_.size());
+  }
   if (out.cloud_.empty()) {
     Fail(error, "model has no finite point");
     return std::nullopt;
   }
+  out.scale_ = MeasureModel(out.cloud_);
+  const RecognitionOptions options = RadiiForModel(given, out.scale_);
   out.cloud_.width = static_cast<std::uint32_t>(out.cloud_.size());
   out.cloud_.height = 1;
-  out.cloud_.sensor_origin_ = model.sensor_origin_;
-  out.cloud_.sensor_orientation_ = model.sensor_orientation_;
+  const Box box = *BoundingBox(out.cloud_);
+  if (views.size() == 1) {
+    out.cloud_.sensor_origin_ = views[0].sensor_origin_;
+    out.cloud_.sensor_orientation_ = views[0].sensor_orientation_;
+  } else {  // seen from all around: the sensor origin inside marks it so in a file
+    out.cloud_.sensor_origin_ = ((box.min + box.max) / 2).homogeneous();
+  }
   out.centroid_ =
       options.vote_for_model_origin ? Eigen::Vector3f::Zero() : *FiniteCentroid(out.cloud_);
 
-  const std::vector<std::uint8_t> mask(out.cloud_.size(), 1);
-  Normals normals = KnnNormals(out.cloud_, mask, options.model_normal_neighbors);
-  // A model whose sensor origin lies inside it was not captured from one place: it is a whole
-  // surface (a mesh rendered from all around, `saccade model --mesh`).
-  const Box box = *BoundingBox(out.cloud_);
-  const Eigen::Vector3f origin = out.cloud_.sensor_origin_.head<3>();
-  const bool whole_surface =
-      (origin.array() > box.min.array()).all() && (origin.array() < box.max.array()).all();
-  if (whole_surface) {
+  // A single view whose sensor origin lies inside it was not captured from one place: it is a
+  // whole surface (a mesh rendered from all around, `saccade model --mesh`).
+  const Eigen::Vector3f origin = views[0].sensor_origin_.head<3>();
+  const bool rendered = views.size() == 1 && (origin.array() > box.min.array()).all() &&
+                        (origin.array() < box.max.array()).all();
+  Normals normals;
+  if (rendered) {
+    const std::vector<std::uint8_t> mask(out.cloud_.size(), 1);
+    normals = KnnNormals(out.cloud_, mask, options.model_normal_neighbors);
     out.descriptors_ = DescribeViews(out.cloud_, out.scale_, options, &normals);
   } else {
+    // Captured views, each described where it was seen from (its normals face its sensor),
+    // their descriptors in one index: a model seen from several sides votes in one frame.
     const DescribeOptions describe = ModelDescribeOptions(options);
-    std::vector<int> all(out.cloud_.size());
-    std::iota(all.begin(), all.end(), 0);
-    const std::vector<int> keypoints =
-        VoxelRepresentatives(out.cloud_, all, options.model_keypoint_radius_m);
-    const auto search = MakeKdTreeSearch(out.cloud_, mask);
-    out.descriptors_ = DescribeKeypoints(out.cloud_, normals, keypoints, *search, describe);
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      Cloud view;
+      view.points.assign(out.cloud_.begin() + long(starts[v]),
+                         out.cloud_.begin() + long(starts[v + 1]));
+      if (view.empty()) continue;
+      view.width = static_cast<std::uint32_t>(view.size());
+      view.height = 1;
+      view.sensor_origin_ = views[v].sensor_origin_;
+      const std::vector<std::uint8_t> mask(view.size(), 1);
+      const Normals view_normals = KnnNormals(view, mask, options.model_normal_neighbors);
+      normals.insert(normals.end(), view_normals.begin(), view_normals.end());
+      std::vector<int> all(view.size());
+      std::iota(all.begin(), all.end(), 0);
+      const std::vector<int> keypoints =
+          VoxelRepresentatives(view, all, options.model_keypoint_radius_m);
+      const auto search = MakeKdTreeSearch(view, mask);
+      Descriptors d = DescribeKeypoints(view, view_normals, keypoints, *search, describe);
+      for (int& k : d.keypoint) k += int(starts[v]);
+      out.descriptors_.keypoint.insert(out.descriptors_.keypoint.end(), d.keypoint.begin(),
+                                       d.keypoint.end());
+      out.descriptors_.lrf.insert(out.descriptors_.lrf.end(), d.lrf.begin(), d.lrf.end());
+      out.descriptors_.shot.insert(out.descriptors_.shot.end(), d.shot.begin(), d.shot.end());
+    }
   }
+  const bool whole_surface = rendered || views.size() > 1;
   out.verification_ = MakeVerificationModel(out.cloud_, normals, options.verify.model_points);
   out.verification_.whole_surface = whole_surface;
   if (out.descriptors_.size() == 0) {

@@ -62,8 +62,8 @@ class ModelDescription {
       const float* shot, float max_sqr_distance = std::numeric_limits<float>::infinity()) const;
 
  private:
-  friend std::optional<ModelDescription> DescribeModel(const Cloud&, const RecognitionOptions&,
-                                                       std::string*);
+  friend std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>&,
+                                                       const RecognitionOptions&, std::string*);
   ModelDescription() = default;
   Cloud cloud_;
   Descriptors descriptors_;
@@ -81,6 +81,15 @@ std::optional<Eigen::Vector3f> FiniteCentroid(const Cloud& cloud);
 /// Describes the model (normals k_nm, uniform-sampling keypoints r_km, SHOT r_sm, LRF r_lm).
 /// nullopt with `error` set when the cloud has no finite point or no describable keypoint.
 std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& options,
+                                              std::string* error);
+
+/// A model captured from several places: `views` in one model frame, each with its sensor
+/// origin (sensor_origin_, in that frame). Each view is described as a captured model is (its
+/// normals facing its sensor) and every descriptor joins one index, so that a scene showing any
+/// of the views' sides votes for one pose; verification counts the points a pose turns towards
+/// the camera. One view is DescribeModel(view).
+std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>& views,
+                                              const RecognitionOptions& options,
                                               std::string* error);
 
 }  // namespace saccade

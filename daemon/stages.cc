@@ -74,10 +74,10 @@ std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
                                      const RecognitionOptions& options, std::string* error) {
   Models models;
   for (const std::string& spec : specs) {
-    std::optional<Cloud> cloud = LoadModelCloud(spec, error);
-    if (!cloud) return std::nullopt;
+    std::optional<std::vector<Cloud>> views = LoadModelViews(spec, error);
+    if (!views) return std::nullopt;
     std::string why;
-    std::optional<ModelDescription> d = DescribeModel(*cloud, options, &why);
+    std::optional<ModelDescription> d = DescribeModel(*views, options, &why);
     if (!d) {
       Fail(error, "model '" + spec + "': " + why);
       return std::nullopt;

@@ -1,6 +1,7 @@
 #include "io/cloud_io.h"
 
 #include "core/fail.h"
+#include "core/foveation.h"
 #include "core/sim/scenario.h"
 #include "io/frame_source.h"
 #include "io/mesh_io.h"
@@ -95,20 +96,17 @@ std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::str
   return out;
 }
 
-bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error) {
-  QuietPcl();
-  if (cloud.empty()) {
-    return Fail(error, path + ": refusing to write an empty cloud");
-  }
-  // Encoded in memory, written beside its place and renamed into it, so that a full disk or a
-  // failed write leaves no half file where a reader would take it for a whole one, and the
-  // error says why (PCL's own file writer loses errno).
-  pcl::PCLPointCloud2 blob;
-  pcl::toPCLPointCloud2(cloud, blob);
+namespace {
+
+// Encoded in memory, written beside its place and renamed into it, so that a full disk or a
+// failed write leaves no half file where a reader would take it for a whole one, and the error
+// says why (PCL's own file writer loses errno).
+bool SaveBlob(const std::string& path, const pcl::PCLPointCloud2& blob,
+              const Eigen::Vector4f& origin, const Eigen::Quaternionf& orientation,
+              std::string* error) {
   std::ostringstream encoded;
   pcl::PCDWriter writer;
-  if (writer.writeBinaryCompressed(encoded, blob, cloud.sensor_origin_, cloud.sensor_orientation_) <
-      0)
+  if (writer.writeBinaryCompressed(encoded, blob, origin, orientation) < 0)
     return Fail(error, path + ": cannot encode the cloud as a PCD file");
   const std::string bytes = encoded.str();
   const std::string part = path + ".part";
@@ -133,6 +131,59 @@ bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error) 
                            (why != 0 ? std::strerror(why) : "write failed") + ")");
   }
   return true;
+}
+
+constexpr const char* kViewpointFields[] = {"vp_x", "vp_y", "vp_z"};
+
+}  // namespace
+
+bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error) {
+  QuietPcl();
+  if (cloud.empty()) {
+    return Fail(error, path + ": refusing to write an empty cloud");
+  }
+  pcl::PCLPointCloud2 blob;
+  pcl::toPCLPointCloud2(cloud, blob);
+  return SaveBlob(path, blob, cloud.sensor_origin_, cloud.sensor_orientation_, error);
+}
+
+bool SaveModelViews(const std::string& path, const std::vector<Cloud>& views, std::string* error) {
+  QuietPcl();
+  if (views.size() == 1) return SaveCloud(path, views[0], error);
+  Cloud all;
+  std::vector<Eigen::Vector3f> origin_of;  // per point
+  for (const Cloud& view : views) {
+    for (const PointT& p : view.points) {
+      if (!FinitePoint(p)) continue;
+      all.push_back(p);
+      origin_of.push_back(view.sensor_origin_.head<3>());
+    }
+  }
+  if (all.empty()) return Fail(error, path + ": refusing to write an empty cloud");
+  pcl::PCLPointCloud2 xyzrgba;
+  pcl::toPCLPointCloud2(all, xyzrgba);
+  // The same points with three more float fields: the sensor origin each was seen from.
+  pcl::PCLPointCloud2 blob = xyzrgba;
+  const std::uint32_t step = xyzrgba.point_step;
+  for (std::uint32_t f = 0; f < 3; ++f) {
+    pcl::PCLPointField field;
+    field.name = kViewpointFields[f];
+    field.offset = step + 4 * f;
+    field.datatype = pcl::PCLPointField::FLOAT32;
+    field.count = 1;
+    blob.fields.push_back(field);
+  }
+  blob.point_step = step + 12;
+  blob.row_step = blob.point_step * blob.width;
+  blob.data.assign(std::size_t(blob.row_step) * blob.height, 0);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    std::uint8_t* row = blob.data.data() + i * blob.point_step;
+    std::memcpy(row, xyzrgba.data.data() + i * step, step);
+    std::memcpy(row + step, origin_of[i].data(), 12);
+  }
+  const Box box = *BoundingBox(all);  // seen from all around: the origin inside says so
+  return SaveBlob(path, blob, ((box.min + box.max) / 2).homogeneous(),
+                  Eigen::Quaternionf::Identity(), error);
 }
 
 std::size_t CountFinite(const Cloud& cloud) {
@@ -180,6 +231,51 @@ std::optional<Eigen::Matrix4f> LoadPose(const std::string& path, std::string* er
     return std::nullopt;
   }
   return pose;
+}
+
+std::optional<std::vector<Cloud>> LoadModelViews(const std::string& spec, std::string* error) {
+  const bool is_file = spec.rfind("synthetic:", 0) != 0 && spec.rfind("capture:", 0) != 0;
+  pcl::PCLPointCloud2 blob;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  if (!is_file || !ReadBlob(spec, &blob, &origin, &orientation, nullptr) ||
+      pcl::getFieldIndex(blob, kViewpointFields[0]) < 0) {
+    auto one = LoadModelCloud(spec, error);
+    if (!one) return std::nullopt;
+    return std::vector<Cloud>{std::move(*one)};
+  }
+  for (const char* name : kViewpointFields)
+    if (const int f = pcl::getFieldIndex(blob, name);
+        f < 0 || blob.fields[std::size_t(f)].datatype != pcl::PCLPointField::FLOAT32) {
+      Fail(error, spec + ": a model of several views needs float vp_x, vp_y and vp_z fields");
+      return std::nullopt;
+    }
+  Cloud all;
+  pcl::fromPCLPointCloud2(blob, all);
+  pcl::PointCloud<pcl::PointWithViewpoint> seen_from;
+  pcl::fromPCLPointCloud2(blob, seen_from);
+  // Points seen from one sensor origin are one view, in the order the views first appear.
+  std::vector<Cloud> views;
+  std::vector<Eigen::Vector3f> origins;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const Eigen::Vector3f o(seen_from[i].vp_x, seen_from[i].vp_y, seen_from[i].vp_z);
+    if (!o.allFinite()) {
+      Fail(error, spec + ": point " + std::to_string(i) + " has no finite viewpoint");
+      return std::nullopt;
+    }
+    std::size_t v = 0;
+    while (v < origins.size() && origins[v] != o) ++v;
+    if (v == origins.size()) {
+      origins.push_back(o);
+      views.emplace_back().sensor_origin_ = o.homogeneous();
+    }
+    views[v].push_back(all[i]);
+  }
+  if (views.empty()) {
+    Fail(error, spec + ": cloud has no valid point");
+    return std::nullopt;
+  }
+  return views;
 }
 
 std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error) {

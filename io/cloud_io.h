@@ -33,6 +33,16 @@ std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error)
 /// Writes a binary-compressed PCD; false with `error` on failure.
 bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error);
 
+/// A model of several views (core/model.h): each view's points in the model frame with its
+/// sensor origin. Written as one PCD of every point with the origin it was seen from in the
+/// fields vp_x, vp_y, vp_z (PCL's PointWithViewpoint layout) and a VIEWPOINT inside the points
+/// (seen from all around); any PCD reader takes it as the merged surface. One view is SaveCloud.
+bool SaveModelViews(const std::string& path, const std::vector<Cloud>& views, std::string* error);
+
+/// A model by spec (LoadModelCloud) as its views: a PCD with vp_x/vp_y/vp_z fields gives one
+/// view per sensor origin, in order of first appearance; anything else is one view.
+std::optional<std::vector<Cloud>> LoadModelViews(const std::string& spec, std::string* error);
+
 /// Number of points with finite x, y and z.
 std::size_t CountFinite(const Cloud& cloud);
 

@@ -26,7 +26,8 @@ namespace fs = std::filesystem;
 // Everything a subcommand needs before it can run: options, model and scene.
 struct Inputs {
   RecognitionConfig config;
-  Cloud model;
+  Cloud model;                     // every view's points
+  std::vector<Cloud> model_views;  // as described (one for a captured model)
   Cloud scene;
 };
 
@@ -61,6 +62,12 @@ std::optional<int> LoadInputs(const Args& args, const std::string& command, Inpu
     }
     (std::string(name) == "model" ? in->model : in->scene) = std::move(*cloud);
   }
+  auto views = LoadModelViews(args.Get("model"), &error);
+  if (!views) {
+    err << "saccade " << command << ": " << error << "\n";
+    return kExitFailure;
+  }
+  in->model_views = std::move(*views);
   return std::nullopt;
 }
 
@@ -213,7 +220,7 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
   Inputs in;
   if (auto code = LoadInputs(args, "recognize", &in, err)) return *code;
   query.fovea = in.config.fovea;
-  auto model = DescribeModel(in.model, in.config.recognition, &error);
+  auto model = DescribeModel(in.model_views, in.config.recognition, &error);
   if (!model) {
     err << "saccade recognize: " << args.Get("model") << ": " << error << "\n";
     return kExitFailure;
@@ -334,7 +341,7 @@ int RunBench(const std::vector<std::string>& argv, std::ostream& out, std::ostre
   RecognitionOptions gold = in.config.recognition;
   gold.scene_keypoint_radius_m = 0.02f;
   auto reference_model = DescribeReferenceModel(in.model, gold, &error);
-  auto model = DescribeModel(in.model, in.config.recognition, &error);
+  auto model = DescribeModel(in.model_views, in.config.recognition, &error);
   if (!reference_model || !model) {
     err << "saccade bench: " << args.Get("model") << ": " << error << "\n";
     return kExitFailure;

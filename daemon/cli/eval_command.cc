@@ -59,7 +59,9 @@ std::optional<int> LoadDatasetScenes(const Args& args, std::optional<float> sphe
     if (!model_centre)
       return Usage(err, "eval", "--model-centre expects x,y,z in the model's frame");
   }
-  models->push_back({std::move(*model), *model_centre});
+  EvalModel& m = models->emplace_back();
+  m.cloud = std::move(*model);
+  m.centre = *model_centre;
   // With --truth-pose, one pose (model to scene) is the truth of every frame: a single
   // capture such as PCL's milk scene, whose pose file comes with it.
   std::optional<Eigen::Vector3f> posed_truth;
@@ -161,6 +163,10 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
       .Value("protocols", "a,b,c",
              "with --cases: the cross-capture protocols to run "
              "(default: a)")
+      .Value("model-source", "case|other-captures",
+             "with --cases: each case's model is its model capture (case, the default), or every "
+             "other capture of its object in the file, never the scene's, aligned into one "
+             "model of several views (other-captures)")
       .Value("only", "NAME,...", "with --cases: run only these objects")
       .Value("every", "N", "with --cases: run every Nth case (default: 1)")
       .Value("out", "DIR", "where the tables and plots go (default: eval-out)")
@@ -239,8 +245,13 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
                      [&](const EvalConfiguration& c) { return c.name == name; }))
       return fail("--sweep: no configuration named '" + name + "'");
 
-  if (!cases && (args.Has("protocols") || args.Has("only") || args.Has("every")))
-    return Usage(err, "eval", "--protocols, --only and --every apply to --cases only");
+  if (!cases &&
+      (args.Has("protocols") || args.Has("only") || args.Has("every") || args.Has("model-source")))
+    return Usage(err, "eval",
+                 "--protocols, --only, --every and --model-source apply to --cases only");
+  const std::string model_source = args.Get("model-source", "case");
+  if (model_source != "case" && model_source != "other-captures")
+    return Usage(err, "eval", "--model-source expects case or other-captures");
   std::vector<eval::Protocol> protocols;  // --cases only
   for (const std::string& p : Args::ParseList(args.Get("protocols", cases ? "a" : ""))) {
     if (p.size() != 1 || p[0] < 'a' || p[0] > 'c')
@@ -254,8 +265,12 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     const std::vector<std::string> only = Args::ParseList(args.Get("only"));
     const auto every = Args::ParsePositiveInt(args.Get("every", "1"));
     if (!every) return Usage(err, "eval", "--every expects a positive integer");
+    eval::CaseModels case_models;
+    case_models.other_captures = model_source == "other-captures";
+    case_models.parallel = MakeTbbParallelFor();
+    case_models.log = &out;
     if (!LoadCaseScenes(args.Get("cases"), args.Get("data", "../shared/data"), only, *every,
-                        &models, &scenes, &error))
+                        &models, &scenes, &error, case_models))
       return fail(error);
   } else if (auto code =
                  LoadDatasetScenes(args, sphere_radius, max_frames, &models, &scenes, err)) {

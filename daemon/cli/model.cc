@@ -1,20 +1,178 @@
-// saccade model: make a model from what a user has. Today a mesh (CAD, a scan, a Blender
-// export), rendered from all around it into the whole surface (core/mesh.h); the model it writes
-// is a PCD file any command takes where it takes a model.
+// saccade model: make a model from what a user has: a mesh (CAD, a scan, a Blender export),
+// rendered from all around it into the whole surface (core/mesh.h), or captures of the object
+// from several sides, aligned into one model of several views (core/view_alignment.h). The model
+// it writes is a PCD file any command takes where it takes a model.
 #include "core/fail.h"
 #include "core/foveation.h"
 #include "core/mesh.h"
+#include "core/segmentation.h"
+#include "core/view_alignment.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
+#include "daemon/cli/pick.h"
+#include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"
 #include "io/json.h"
 #include "io/mesh_io.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
+#include <limits>
 #include <ostream>
 
 namespace saccade {
+namespace {
+
+// The object's points in capture `path`, organized (the rest NaN): by its mOSD label when
+// `object` > 0, else the cluster `pick` chooses among those `saccade segment` finds.
+std::optional<Cloud> CutCapture(const std::string& path, int object, const PickRule& pick,
+                                std::string* error) {
+  std::vector<int> points;
+  Cloud cloud;
+  if (object > 0) {
+    auto labelled = LoadLabelledCloud(path, error);
+    if (!labelled) return std::nullopt;
+    cloud = std::move(labelled->cloud);
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      if (labelled->labels[i] >= 10 && int(labelled->labels[i] / 10) == object &&
+          FinitePoint(cloud[i]))
+        points.push_back(int(i));
+    if (points.empty()) {
+      Fail(error, path + ": no point labelled as object " + std::to_string(object));
+      return std::nullopt;
+    }
+  } else {
+    auto loaded = LoadCloud(path, error);
+    if (!loaded) return std::nullopt;
+    cloud = std::move(*loaded);
+    Segmentation s;
+    if (!Segment(cloud, SegmentationOptions{}, &s, error)) {
+      *error = path + ": " + *error;
+      return std::nullopt;
+    }
+    const auto picked = Pick(pick, s, error);
+    if (!picked) {
+      *error = path + ": " + *error;
+      return std::nullopt;
+    }
+    points = s.clusters[*picked].indices;
+  }
+  std::vector<std::uint8_t> keep(cloud.size(), 0);
+  for (int i : points) keep[std::size_t(i)] = 1;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (!keep[i]) cloud[i].x = cloud[i].y = cloud[i].z = nan;
+  return cloud;
+}
+
+int ModelFromCaptures(const Args& args, std::ostream& out, std::ostream& err) {
+  const std::vector<std::string> paths = Args::ParseList(args.Get("captures"));
+  if (paths.size() < 2) return Usage(err, "model", "--captures expects two or more PCD files");
+  std::vector<int> objects;
+  for (const std::string& k : Args::ParseList(args.Get("object"))) {
+    const auto v = Args::ParsePositiveInt(k);
+    if (!v) return Usage(err, "model", "--object expects positive object numbers");
+    objects.push_back(*v);
+  }
+  if (!objects.empty() && objects.size() != 1 && objects.size() != paths.size())
+    return Usage(err, "model", "--object expects one number, or one per capture");
+  if (!objects.empty() && args.Has("pick"))
+    return Usage(err, "model", "--object and --pick are exclusive");
+  const auto pick = ParsePick(args.Get("pick", "largest"));
+  if (!pick) return Usage(err, "model", "--pick expects largest, nearest or a cluster index");
+
+  std::string error;
+  std::vector<Cloud> cuts;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const int object = objects.empty() ? 0 : objects[objects.size() == 1 ? 0 : i];
+    auto cut = CutCapture(paths[i], object, *pick, &error);
+    if (!cut) {
+      err << "saccade model: " << error << "\n";
+      return kExitFailure;
+    }
+    cuts.push_back(std::move(*cut));
+  }
+  std::vector<const Cloud*> captures;
+  for (const Cloud& c : cuts) captures.push_back(&c);
+  const AlignmentOptions options;
+  const auto pairs = AlignAll(captures, options, MakeTbbParallelFor());
+  std::vector<int> parent;
+  const auto poses = ChainViews(pairs, captures, std::vector<bool>(paths.size(), true), 0, &parent);
+  for (std::size_t i = 1; i < paths.size(); ++i) {
+    if (poses[i]) continue;
+    // The nearest miss, to say how far from fitting it was.
+    float overlap = 0;
+    for (std::size_t j = 0; j < paths.size(); ++j)
+      if (j != i) overlap = std::max({overlap, pairs[i][j].overlap, pairs[j][i].overlap});
+    err << "saccade model: " << paths[i] << ": fits none of the other captures (best overlap "
+        << int(std::lround(100 * overlap)) << "%, " << int(std::lround(100 * options.min_overlap))
+        << "% needed, with at most " << int(std::lround(100 * options.max_seen_through))
+        << "% of it where another capture saw through): is it the same object, seen from a side "
+           "another capture shares?\n";
+    return kExitFailure;
+  }
+  const float disagreement = LoopDisagreement(pairs, poses, captures);
+  const std::vector<Cloud> views = PlaceViews(captures, poses);
+  const std::string out_path = args.Get("out");
+  if (!SaveModelViews(out_path, views, &error)) {
+    err << "saccade model: " << error << "\n";
+    return kExitFailure;
+  }
+  Cloud all;
+  for (const Cloud& v : views)
+    for (const PointT& p : v.points)
+      if (FinitePoint(p)) all.push_back(p);
+  const Eigen::Vector3f size = BoundingBox(all)->Size();
+  if (args.Has("json")) {
+    JsonWriter j;
+    j.BeginObject().Key("model").Value(out_path).Key("points").Value(all.size());
+    j.Key("size_m").Vector3(size).Key("views").Value(views.size());
+    j.Key("loop_disagreement_m").Value(double(disagreement)).Key("captures").BeginArray();
+    for (std::size_t i = 0; i < paths.size(); ++i) {
+      j.BeginObject().Key("capture").Value(paths[i]).Key("points").Value(CountFinite(cuts[i]));
+      if (parent[i] >= 0) {
+        const std::size_t p = std::size_t(parent[i]);
+        const ViewAlignment& a =
+            pairs[i][p].found && (!pairs[p][i].found || pairs[i][p].overlap >= pairs[p][i].overlap)
+                ? pairs[i][p]
+                : pairs[p][i];
+        j.Key("joined_to").Value(paths[p]).Key("overlap").Value(double(a.overlap));
+        j.Key("rmse_m").Value(double(a.rmse_m)).Key("seen_through").Value(double(a.seen_through));
+        j.Key("colour_agreement").Value(double(a.colour));
+      }
+      j.EndObject();
+    }
+    j.EndArray().EndObject();
+    out << j.str() << "\n";
+    return kExitOk;
+  }
+  out << std::fixed << std::setprecision(3);
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    out << paths[i] << ": " << CountFinite(cuts[i]) << " points";
+    if (parent[i] < 0) {
+      out << ", the model's frame (its camera's)\n";
+      continue;
+    }
+    const std::size_t p = std::size_t(parent[i]);
+    const ViewAlignment& a =
+        pairs[i][p].found && (!pairs[p][i].found || pairs[i][p].overlap >= pairs[p][i].overlap)
+            ? pairs[i][p]
+            : pairs[p][i];
+    out << ", joined to " << paths[p] << ": " << int(std::lround(100 * a.overlap)) << "% overlap, "
+        << 1000 * a.rmse_m << " mm RMS, " << int(std::lround(100 * a.seen_through))
+        << "% seen through";
+    if (a.colour >= 0) out << ", colours agree " << a.colour;
+    out << "\n";
+  }
+  out << "wrote " << out_path << ": " << all.size() << " points, " << size.x() << " x " << size.y()
+      << " x " << size.z() << " m, " << views.size()
+      << " views; alignments outside the chain agree with it within " << 100 * disagreement
+      << " cm\n";
+  return kExitOk;
+}
+
+}  // namespace
 
 int RunModel(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade model",
@@ -24,7 +182,16 @@ int RunModel(const std::vector<std::string>& argv, std::ostream& out, std::ostre
             "OBJ's materials, per vertex from a PLY), and writes the whole surface in the mesh's "
             "frame: poses found with it are the mesh's pose in the camera frame.");
   const MeshViewOptions defaults;
-  args.Value("mesh", "FILE", "the mesh: .obj (with its .mtl), .ply or .stl (required)")
+  args.Value("mesh", "FILE", "the mesh: .obj (with its .mtl), .ply or .stl")
+      .Value("captures", "A.pcd,B.pcd,...",
+             "instead of a mesh: captures of the object from several sides, aligned into one "
+             "model in the first capture's camera frame (each a view: where it was seen from "
+             "is kept)")
+      .Value("object", "K[,K...]",
+             "with --captures: the object's mOSD label number, one for all or one per capture")
+      .Value("pick", "RULE",
+             "with --captures and no --object: the cluster `saccade segment` would pick "
+             "(largest, nearest or an index; default: largest)")
       .Value("out", "MODEL.pcd", "the model to write (required)")
       .Value("unit", "m|mm", "the mesh's unit (default: m)")
       .Value("views", "N", "viewpoints around the mesh" + Args::Default(defaults.views))
@@ -36,8 +203,10 @@ int RunModel(const std::vector<std::string>& argv, std::ostream& out, std::ostre
              "one point per cube of this edge, metres" + Args::Default(defaults.spacing_m))
       .Switch("json", "print one JSON object instead of text");
   if (auto code = args.Parse(argv, out, err)) return *code;
-  for (const char* required : {"mesh", "out"})
-    if (!args.Has(required)) return Usage(err, "model", std::string("missing --") + required);
+  if (!args.Has("out")) return Usage(err, "model", "missing --out");
+  if (args.Has("mesh") == args.Has("captures"))
+    return Usage(err, "model", "expects --mesh or --captures (one of them)");
+  if (args.Has("captures")) return ModelFromCaptures(args, out, err);
   const std::string unit = args.Get("unit", "m");
   if (unit != "m" && unit != "mm")
     return Usage(err, "model", "--unit expects m or mm, got '" + unit.substr(0, 40) + "'");

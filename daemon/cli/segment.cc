@@ -4,6 +4,7 @@
 #include "core/segmentation.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
+#include "daemon/cli/pick.h"
 #include "io/cloud_io.h"
 #include "io/json.h"
 
@@ -53,11 +54,7 @@ void PrintSegmentation(const Segmentation& s, std::size_t picked, const std::str
   os << "wrote cluster " << picked << " to " << out << "\n";
 }
 
-// --pick largest|nearest|N, parsed before any work is done.
-struct PickRule {
-  enum class Kind { kLargest, kNearest, kIndex } kind = Kind::kLargest;
-  std::size_t index = 0;
-};
+}  // namespace
 
 std::optional<PickRule> ParsePick(const std::string& text) {
   if (text == "largest") return PickRule{PickRule::Kind::kLargest, 0};
@@ -88,8 +85,6 @@ std::optional<std::size_t> Pick(const PickRule& rule, const Segmentation& s, std
   }
   return rule.index;
 }
-
-}  // namespace
 
 int RunSegment(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade segment",

@@ -7,6 +7,7 @@
 #include "core/features.h"
 #include "core/segmentation.h"
 #include "core/sim/rerender.h"
+#include "daemon/eval/other_captures.h"
 #include "daemon/eval/texture.h"
 #include "io/cloud_io.h"
 
@@ -14,6 +15,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -51,6 +53,38 @@ Eigen::Vector3f OffObject(std::size_t i) {
   return 0.15f * d.normalized();
 }
 
+Eigen::Vector3f EvalModel::ScoredPoint(const Eigen::Matrix4f& model_to_scene) const {
+  const Eigen::Matrix3f r = model_to_scene.topLeftCorner<3, 3>();
+  const Eigen::Vector3f t = model_to_scene.topRightCorner<3, 1>();
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  int n = 0;
+  for (std::size_t i = 0; i < sample.size(); ++i) {
+    const Eigen::Vector3f p = r * sample[i] + t;
+    if ((r * sample_normals[i]).dot(-p) <= 0) continue;  // turned away from the camera
+    sum += p;
+    ++n;
+  }
+  return n ? Eigen::Vector3f(sum / float(n)) : Eigen::Vector3f(r * centre + t);
+}
+
+EvalModel ViewsEvalModel(std::vector<Cloud> views) {
+  EvalModel m;
+  for (const Cloud& view : views) {
+    const std::vector<std::uint8_t> mask(view.size(), 1);
+    const Normals normals = KnnNormals(view, mask, 10);
+    for (std::size_t i = 0; i < view.size(); ++i) {
+      if (!FinitePoint(view[i])) continue;
+      m.cloud.push_back(view[i]);
+      if (i % 8 || !normals[i].allFinite()) continue;
+      m.sample.push_back(view[i].getVector3fMap());
+      m.sample_normals.push_back(normals[i]);
+    }
+  }
+  if (const auto c = FiniteCentroid(m.cloud)) m.centre = *c;
+  m.views = std::move(views);
+  return m;
+}
+
 Runner::Runner(const std::vector<EvalModel>& models, ParallelFor parallel, int repeat)
     : models_(models), parallel_(std::move(parallel)), repeat_(repeat) {}
 
@@ -77,7 +111,8 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
       if (auto r = DescribeReferenceModel(models_[m].cloud, o, error))
         stock[m].emplace(std::move(*r));
     } else {
-      described[m] = DescribeModel(models_[m].cloud, o, error);
+      described[m] = models_[m].views.empty() ? DescribeModel(models_[m].cloud, o, error)
+                                              : DescribeModel(models_[m].views, o, error);
     }
     if (!stock[m] && !described[m]) return false;
   }
@@ -167,7 +202,7 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
 std::vector<Eigen::Vector3f> Runner::Centres(const RecognitionResult& r, const Scene& s) const {
   std::vector<Eigen::Vector3f> out;
   for (const Detection& d : r.instances)
-    out.push_back((d.model_to_scene * models_[s.model].centre.homogeneous()).head<3>());
+    out.push_back(models_[s.model].ScoredPoint(d.model_to_scene));
   return out;
 }
 
@@ -189,8 +224,7 @@ CaseEvidence Runner::Evidence(const RecognitionResult& r, const Scene& s,
     }
   }
   for (std::size_t h = 0; h < r.hypotheses.size(); ++h) {
-    const Eigen::Vector3f centre =
-        (r.hypotheses[h].model_to_scene * m.centre.homogeneous()).head<3>();
+    const Eigen::Vector3f centre = m.ScoredPoint(r.hypotheses[h].model_to_scene);
     if ((centre - s.truth_m).norm() > 0.08f) continue;
     e.true_hypotheses.push_back(h < r.verdicts.size() ? r.verdicts[h] : Verdict::kKept);
   }
@@ -231,7 +265,7 @@ Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s, Scene
     std::vector<Detection> sightings;
     for (const Detection& d : instances) {
       Detection& seen = sightings.emplace_back();
-      seen.centroid_m = (d.model_to_scene * m.centre.homogeneous()).head<3>();
+      seen.centroid_m = m.ScoredPoint(d.model_to_scene);
       seen.confidence = d.confidence;
       seen.model = 0;
       a.false_instances += (seen.centroid_m - s.truth_m).norm() > 0.08f;
@@ -298,9 +332,10 @@ std::map<std::string, std::string> CaseCategories(const std::string& cases_path)
 // With `only` non-empty, just the cases it names (each must exist); of those, every `every`-th.
 bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
                     const std::vector<std::string>& only, int every, std::vector<EvalModel>* models,
-                    std::vector<Scene>* scenes, std::string* error) {
+                    std::vector<Scene>* scenes, std::string* error, const CaseModels& case_models) {
   std::vector<LabelledCase> cases;
   if (!LoadLabelledCases(path, data_dir, &cases, error)) return false;
+  const std::vector<LabelledCase> all = cases;
   if (every > 1) {
     std::vector<LabelledCase> kept;
     for (std::size_t i = 0; i < cases.size(); i += std::size_t(every)) kept.push_back(cases[i]);
@@ -339,22 +374,36 @@ bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
     }
     return &it->second;
   };
-  // The finite points of object k (mOSD labels 10k..10k+9), as a cloud; an error when none.
-  const auto object = [&](const LabelledCase& c, const std::string& file, const Capture& capture,
-                          int k) -> std::optional<Cloud> {
-    const std::vector<int> points = MosdObjectPoints(*capture.cloud, capture.labels, k);
+  // Each capture's object is cut once (other captures: every model shares them).
+  std::map<CaptureKey, Cloud> cuts;
+  const auto cut = [&](const CaptureKey& key) -> const Cloud* {
+    auto it = cuts.find(key);
+    if (it != cuts.end()) return &it->second;
+    const Capture* capture = load(key.first);
+    if (!capture) return nullptr;
+    const std::vector<int> points = MosdObjectPoints(*capture->cloud, capture->labels, key.second);
     if (points.empty()) {
-      Fail(error, path + ": case " + c.name + ": " + file + " has no object " + std::to_string(k));
-      return std::nullopt;
+      Fail(error, path + ": " + key.first + " has no object " + std::to_string(key.second));
+      return nullptr;
     }
-    return ExtractPoints(*capture.cloud, points);
+    // Organized, the rest of the capture NaN: an alignment checks what the camera saw through.
+    Cloud organized = *capture->cloud;
+    std::vector<std::uint8_t> keep(organized.size(), 0);
+    for (int i : points) keep[std::size_t(i)] = 1;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (std::size_t i = 0; i < organized.size(); ++i)
+      if (!keep[i]) organized[i].x = organized[i].y = organized[i].z = nan;
+    return &cuts.emplace(key, std::move(organized)).first->second;
   };
+  std::optional<OtherCaptureModels> others;
+  if (case_models.other_captures)
+    others.emplace(all, AlignmentOptions{}, cut, case_models.parallel, case_models.log);
+  std::map<std::pair<std::string, CaptureKey>, std::size_t> model_of;  // (identity, scene)
+  std::map<std::size_t, std::optional<Eigen::Matrix4f>> truth_of;      // per model
   for (const LabelledCase& c : cases) {
-    const Capture* source = load(c.model_file);
-    const Capture* target = source ? load(c.scene_file) : nullptr;
-    if (!target) return false;
-    auto model = object(c, c.model_file, *source, c.model_object);
-    const auto truth = model ? object(c, c.scene_file, *target, c.scene_object) : std::nullopt;
+    const CaptureKey scene_key{c.scene_file, c.scene_object};
+    const Cloud* model = cut({c.model_file, c.model_object});
+    const Cloud* truth = model ? cut(scene_key) : nullptr;
     if (!truth) return false;
     Scene s;
     s.truth_m = *FiniteCentroid(*truth);
@@ -365,13 +414,40 @@ bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
       s.category = it->second;
     else
       s.category = c.category;
+    const Capture* target = load(c.scene_file);
     s.frame.cloud = target->cloud;
     s.frame.intrinsics = target->intrinsics;
     s.frame.sequence = scenes->size();
-    s.model = models->size();
     s.name = c.name;
-    const Eigen::Vector3f centre = *FiniteCentroid(*model);
-    models->push_back({std::move(*model), centre});
+    if (others) {
+      const auto key = std::make_pair(s.identity, scene_key);
+      auto it = model_of.find(key);
+      if (it == model_of.end()) {
+        auto views = others->For(s.identity, scene_key, error);
+        if (!views) return Fail(error, path + ": case " + c.name + ": " + *error);
+        it = model_of.emplace(key, models->size()).first;
+        models->push_back(ViewsEvalModel(std::move(views->views)));
+        if (case_models.log)
+          *case_models.log << "  " << c.scene_file << " object " << c.scene_object << ": "
+                           << models->back().views.size() << " views from "
+                           << views->reference.first
+                           << (views->left_out
+                                   ? ", " + std::to_string(views->left_out) + " not aligned"
+                                   : "")
+                           << (views->truth_pose ? "" : ", no truth pose") << "\n";
+        truth_of[it->second] = views->truth_pose;
+      }
+      s.model = it->second;
+      s.truth_pose = truth_of[it->second];
+    } else {
+      s.model = models->size();
+      EvalModel& m = models->emplace_back();
+      std::vector<int> finite;
+      for (std::size_t i = 0; i < model->size(); ++i)
+        if (FinitePoint((*model)[i])) finite.push_back(int(i));
+      m.cloud = ExtractPoints(*model, finite);
+      m.centre = *FiniteCentroid(*model);
+    }
     scenes->push_back(std::move(s));
   }
   return true;

@@ -17,6 +17,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -40,7 +41,19 @@ struct Scene {
 struct EvalModel {
   Cloud cloud;
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  /// A model of several captures (eval --model-source other-captures): its views, described
+  /// together, and a sample of its points with their normals (facing their sensor). Such a
+  /// model is scored at the centroid of the points its pose turns towards the camera, the side
+  /// a scene's labelled points show, instead of at `centre`.
+  std::vector<Cloud> views;
+  std::vector<Eigen::Vector3f> sample, sample_normals;
+  /// Where the scored point of the model lands under `model_to_scene`.
+  Eigen::Vector3f ScoredPoint(const Eigen::Matrix4f& model_to_scene) const;
 };
+
+/// A model of `views` (each in the model frame with its sensor origin), scored on its visible
+/// side.
+EvalModel ViewsEvalModel(std::vector<Cloud> views);
 
 /// What one configuration found in one frame with the fovea at one place.
 struct Trial {
@@ -154,8 +167,17 @@ std::map<std::string, std::string> CaseCategories(const std::string& cases_path)
 /// scene (the other capture, with the centroid of the object's labelled points as the truth).
 /// With `only` non-empty, just the cases it names (each must exist); of those, every
 /// `every`-th. False with `error` naming the file and case.
+/// With `other_captures`, each case's model is instead every other capture of its object in the
+/// file (daemon/eval/other_captures.h), its truth pose chained through the file's, aligned with
+/// `parallel`; `log` gets each object's alignment.
+struct CaseModels {
+  bool other_captures = false;
+  ParallelFor parallel = SerialFor;
+  std::ostream* log = nullptr;
+};
 bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
                     const std::vector<std::string>& only, int every, std::vector<EvalModel>* models,
-                    std::vector<Scene>* scenes, std::string* error);
+                    std::vector<Scene>* scenes, std::string* error,
+                    const CaseModels& case_models = {});
 
 }  // namespace saccade::eval

@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -136,6 +137,90 @@ TEST(Cli, ModelMakesAWholeSurfaceModelOfAMeshAndRefusesABrokenOne) {
   EXPECT_EQ(bad.code, 1);
   EXPECT_EQ(bad.out, "saccade model: " + broken + ": face 1 names vertex 9 of 2\n");
   EXPECT_FALSE(std::filesystem::exists(none));
+}
+
+// Parses the first instance's pose of `saccade recognize --json` output (row-major 4x4).
+std::optional<Eigen::Matrix4f> FirstPose(const std::string& json) {
+  const auto at = json.find("\"pose\":[");
+  if (at == std::string::npos) return std::nullopt;
+  Eigen::Matrix4f m;
+  const char* p = json.c_str() + at + 8;
+  for (int i = 0; i < 16; ++i) {
+    char* end = nullptr;
+    m(i / 4, i % 4) = std::strtof(p, &end);
+    if (end == p) return std::nullopt;
+    p = end + 1;
+  }
+  return m;
+}
+
+TEST(Cli, ModelFromCapturesIsFoundInACaptureItNeverSaw) {
+  SACCADE_REQUIRE_DATA("mosd_xcap/learn/learn43.pcd");
+  const auto data = [](const std::string& f) {
+    return saccade::testing::DataPath("mosd_xcap/" + f);
+  };
+  const std::string out = ::testing::TempDir() + "can_views.pcd";
+  std::filesystem::remove(out);
+  // The coffee can (object 4) from three sides, none of them learn43's.
+  const CliRun r =
+      Saccade("model --captures " + data("test/test38.pcd") + "," + data("test/test32.pcd") + "," +
+              data("test/test39.pcd") + " --object 4 --out " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("test38.pcd: 9417 points, the model's frame"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("test32.pcd: 7911 points, joined to "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(", 3 views;"), std::string::npos) << r.out;
+  // Found where the benchmark's truth puts it: test38's frame into learn43's is
+  // T(test36 -> learn43) T(test36 -> test38)^-1 (cases_with_pose.yaml).
+  const CliRun found = Saccade("recognize --model " + out + " --scene " +
+                               data("learn/learn43.pcd") + " --plain --json");
+  ASSERT_EQ(found.code, 0) << found.out;
+  const auto pose = FirstPose(found.out);
+  ASSERT_TRUE(pose) << found.out;
+  const float to_learn43[16] = {0.8646999f,  -0.2851199f, 0.4135228f,  -0.03086935f,
+                                0.2728591f,  0.957848f,   0.08986289f, 0.1315799f,
+                                -0.4217136f, 0.03512901f, 0.9060484f,  -0.226622f,
+                                0,           0,           0,           1};
+  const float to_test38[16] = {0.9998525f,
+                               -0.002822749f,
+                               0.01691915f,
+                               0.04683755f,
+                               0.002908148f,
+                               0.9999831f,
+                               -0.005017745f,
+                               0.04503625f,
+                               -0.01690458f,
+                               0.005066187f,
+                               0.9998439f,
+                               -0.06315316f,
+                               0,
+                               0,
+                               0,
+                               1};
+  using RowMajor = Eigen::Matrix<float, 4, 4, Eigen::RowMajor>;
+  const Eigen::Matrix4f truth = Eigen::Matrix4f(Eigen::Map<const RowMajor>(to_learn43)) *
+                                Eigen::Matrix4f(Eigen::Map<const RowMajor>(to_test38)).inverse();
+  std::string error;
+  const auto model = saccade::LoadModelCloud(out, &error);
+  ASSERT_TRUE(model) << error;
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  for (const auto& p : model->points) centroid += p.getVector3fMap();
+  centroid /= float(model->size());
+  const Eigen::Vector3f at = (*pose * centroid.homogeneous()).head<3>();
+  const Eigen::Vector3f true_at = (truth * centroid.homogeneous()).head<3>();
+  EXPECT_LT((at - true_at).norm(), 0.03f) << *pose << "\n" << truth;
+
+  // A capture of another object fits none of the others: one line, exit 1, nothing written.
+  const std::string none = ::testing::TempDir() + "no_views.pcd";
+  std::filesystem::remove(none);
+  const CliRun bad = Saccade("model --captures " + data("test/test38.pcd") + "," +
+                             data("test/test62.pcd") + " --object 4,15 --out " + none);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_EQ(std::count(bad.out.begin(), bad.out.end(), '\n'), 1) << bad.out;
+  EXPECT_NE(bad.out.find("test62.pcd: fits none of the other captures"), std::string::npos)
+      << bad.out;
+  EXPECT_FALSE(std::filesystem::exists(none));
+  // --mesh and --captures are one or the other.
+  EXPECT_EQ(Saccade("model --out " + none).code, 2);
 }
 
 TEST(Cli, DaemonHelpListsItsFlagsSignalsAndExitCodes) {
