@@ -2,6 +2,7 @@
 // out-parameter and `false` returned, so callers can write `return Fail(error, "...");`.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace saccade {
@@ -29,9 +30,21 @@ inline std::string OneLine(const std::string& text) {
   return out;
 }
 
-/// Sets *error (when error is not null) to `message`, made one line, and returns false.
+/// `line` cut to at most about kMaxErrorChars: an error echoing a value it was given (a 1 MB
+/// path, a 100 KB config line) keeps its head and tail and says how long the whole was.
+constexpr std::size_t kMaxErrorChars = 400;
+inline std::string CutLine(const std::string& line) {
+  if (line.size() <= kMaxErrorChars) return line;
+  const std::size_t head = kMaxErrorChars - 120, tail = 80;
+  return line.substr(0, head) + " [... " + std::to_string(line.size() - head - tail) +
+         " characters cut of " + std::to_string(line.size()) + " ...] " +
+         line.substr(line.size() - tail);
+}
+
+/// Sets *error (when error is not null) to `message`, made one line and cut to a readable
+/// length (CutLine), and returns false.
 inline bool Fail(std::string* error, const std::string& message) {
-  if (error) *error = OneLine(message);
+  if (error) *error = CutLine(OneLine(message));
   return false;
 }
 

@@ -10,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <condition_variable>
 #include <cstdio>
 #include <mutex>
@@ -59,6 +60,7 @@ struct Tracker::Impl {
   // The control thread is stopped first, while the bus it replies through is alive; then the
   // bus, whose receiver may still post (and is refused); the stages after.
   ~Impl() {
+    closing = true;
     control.Stop();
     bus.reset();
   }
@@ -94,6 +96,14 @@ struct Tracker::Impl {
   // Where SWITCH_MODEL may load from: lcm.model_dirs, or the configured models' folders.
   const std::vector<std::string> model_dirs = ModelDirs(settings);
 
+  // At most one SWITCH_MODEL waits for the control thread: a later one takes its place (the last
+  // wins) and the one replaced is refused, so a flood of switches costs one description, not
+  // one each, and stopping never waits behind a queue of them.
+  std::mutex switch_mutex;
+  std::optional<std::pair<std::string, CommandReply>> pending_switch;  // guarded by switch_mutex
+  std::atomic<bool> closing{false};  // set by Stop: a switch not yet begun is refused
+  void RunPendingSwitch();
+
   SerialWorker control;  // model switches and reloads; the last member, so stopped first
 };
 
@@ -115,13 +125,34 @@ void Tracker::Impl::OnCommand(const Command& c, const CommandReply& reply) {
       std::string why;
       if (!CommandModelAllowed(c.model, model_dirs, &why)) return reply(false, why);
       // Describing a model takes seconds: not on the bus's thread.
-      if (!control.Post([this, spec = c.model, reply] { SwitchModel(spec, reply); }))
-        reply(false, "the tracker is stopping");
+      std::optional<CommandReply> replaced;
+      bool post = false;
+      {
+        std::lock_guard<std::mutex> lock(switch_mutex);
+        if (pending_switch)
+          replaced = pending_switch->second;
+        else
+          post = true;
+        pending_switch.emplace(c.model, reply);
+      }
+      if (replaced) (*replaced)(false, "replaced by a later SWITCH_MODEL before it was loaded");
+      if (post && !control.Post([this] { RunPendingSwitch(); })) RunPendingSwitch();
       return;
     }
   }
   Log(LogLevel::kDebug, "command accepted");
   reply(true, "");
+}
+
+void Tracker::Impl::RunPendingSwitch() {
+  std::optional<std::pair<std::string, CommandReply>> next;
+  {
+    std::lock_guard<std::mutex> lock(switch_mutex);
+    next.swap(pending_switch);
+  }
+  if (!next) return;
+  if (closing) return next->second(false, "the tracker is stopping");
+  SwitchModel(next->first, next->second);
 }
 
 void Tracker::Impl::SwitchModel(const std::string& spec, const CommandReply& reply) {
@@ -290,6 +321,7 @@ void Tracker::Stop() {
     std::lock_guard<std::mutex> lock(impl_->run_mutex);
     impl_->stopping = true;
   }
+  impl_->closing = true;
   impl_->run_cv.notify_all();
   impl_->source->Stop();
 }

@@ -220,6 +220,29 @@ TEST(Tracker, ModelSwitchesAndReloadsRunOnTheControlThreadAndABadOneChangesNothi
   EXPECT_TRUE(rig.bus->Frames().back().frame.instances.empty());
 }
 
+TEST(Tracker, AFloodOfModelSwitchesDescribesOnlyTheLast) {
+  Rig rig(DemoSettings());
+  ASSERT_TRUE(rig.tracker);
+  Command change;
+  change.kind = Command::Kind::kSwitchModel;
+  change.model = "synthetic:target";
+  for (int i = 0; i < 200; ++i) ASSERT_TRUE(rig.bus->Send(change));
+  rig.tracker->WaitForControl();
+  // Each switch waiting when a later one came was refused: the first may have begun before the
+  // second arrived; the last is loaded. Every command is counted once.
+  EXPECT_EQ(rig.bus->AcceptedCommands() + rig.bus->RejectedCommands(), 200);
+  EXPECT_GE(rig.bus->AcceptedCommands(), 1);
+  EXPECT_LE(rig.bus->AcceptedCommands(), 2);
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(rig.Step());
+  EXPECT_FALSE(rig.bus->Frames().back().frame.instances.empty());
+  // Once the tracker stops, a switch is refused rather than described.
+  rig.tracker->Stop();
+  ASSERT_TRUE(rig.bus->Send(change));
+  rig.tracker->WaitForControl();
+  EXPECT_EQ(rig.bus->RejectedCommands() + rig.bus->AcceptedCommands(), 201);
+  EXPECT_LE(rig.bus->AcceptedCommands(), 2);
+}
+
 }  // namespace
 }  // namespace saccade
 

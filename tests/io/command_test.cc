@@ -120,6 +120,17 @@ TEST(CommandModelAllowed, OnlyRegularFilesUnderTheModelFolders) {
   EXPECT_NE(why.find("model folders: none"), std::string::npos) << why;
 }
 
+TEST(CommandModelAllowed, ALongPathIsEchoedCutWithItsLength) {
+  // The longest path a command may carry (4,096 bytes): the refusal is one short line.
+  const std::string path = "/nonexistent/" + std::string(4000, 'a') + ".pcd";
+  std::string why;
+  EXPECT_FALSE(CommandModelAllowed(path, {"/models"}, &why));
+  EXPECT_LE(why.size(), 420u) << why;
+  EXPECT_EQ(why.rfind("SWITCH_MODEL: no such file '/nonexistent/aaa", 0), 0u) << why;
+  EXPECT_NE(why.find(" characters cut of "), std::string::npos) << why;
+  EXPECT_EQ(why.substr(why.size() - 10), "aaaaa.pcd'") << why;  // the tail kept
+}
+
 TEST(LogLimiter, AtMostNLinesASecondAndTheNextSaysHowManyWereHeldBack) {
   LogLimiter limiter(2);
   const auto t0 = LogLimiter::Clock::time_point() + std::chrono::hours(1);
