@@ -7,7 +7,10 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <memory>
+#include <unordered_map>
 
 namespace saccade {
 namespace {
@@ -95,22 +98,43 @@ Normals OrganizedNormals(const Cloud& cloud, const CameraIntrinsics& /*intrinsic
 
 Normals KnnNormals(const Cloud& cloud, const std::vector<std::uint8_t>& mask, int k_neighbors) {
   Normals normals(cloud.size(), Eigen::Vector3f::Constant(kNaN));
+  // The search surface is every finite point at a distinct place (full resolution), the queries
+  // only the masked. Points at the very same place are one: a k-d tree cannot split them, and a
+  // cloud of many copies of one point would make every search visit them all.
+  std::vector<int> first(cloud.size(), -1);  // each finite point's first copy
+  auto distinct = std::make_shared<pcl::Indices>();
+  {
+    std::unordered_map<std::uint64_t, std::vector<int>> at;  // by a hash of the coordinates
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      if (!FinitePoint(cloud[i])) continue;
+      const Eigen::Vector3f p = cloud[i].getVector3fMap();
+      std::uint32_t bits[3];
+      std::memcpy(bits, p.data(), sizeof bits);
+      const std::uint64_t key = (std::uint64_t(bits[0]) * 0x9E3779B97F4A7C15ull) ^
+                                (std::uint64_t(bits[1]) * 0xC2B2AE3D27D4EB4Full) ^ bits[2];
+      std::vector<int>& same = at[key];
+      for (int j : same)
+        if (cloud[std::size_t(j)].getVector3fMap() == p) first[i] = j;
+      if (first[i] >= 0) continue;
+      first[i] = int(i);
+      same.push_back(int(i));
+      distinct->push_back(int(i));
+    }
+  }
+  if (distinct->empty()) return normals;
   auto input = Cloud::ConstPtr(&cloud, [](const Cloud*) {});
-  auto indices = std::make_shared<pcl::Indices>();
-  for (std::size_t i = 0; i < cloud.size(); ++i)
-    if (mask[i] && FinitePoint(cloud[i])) indices->push_back(static_cast<int>(i));
-  if (indices->empty()) return normals;
-  // The search surface is every finite point (full resolution), the queries only the masked.
-  auto finite = std::make_shared<pcl::Indices>();
-  for (std::size_t i = 0; i < cloud.size(); ++i)
-    if (FinitePoint(cloud[i])) finite->push_back(static_cast<int>(i));
   pcl::search::KdTree<PointT>::Ptr tree(new pcl::search::KdTree<PointT>);
-  tree->setInputCloud(input, finite);
+  tree->setInputCloud(input, distinct);
   std::vector<int> nn;
   std::vector<float> d2;
   std::vector<Eigen::Vector3f> pts;
   const Eigen::Vector3f viewpoint = cloud.sensor_origin_.head<3>();
-  for (int i : *indices) {
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (!mask[i] || first[i] < 0) continue;
+    if (first[i] != int(i) && mask[std::size_t(first[i])]) {
+      normals[i] = normals[std::size_t(first[i])];  // a copy of a point already done
+      continue;
+    }
     tree->nearestKSearch(cloud[i], k_neighbors, nn, d2);
     pts.clear();
     for (int j : nn) pts.push_back(cloud[j].getVector3fMap());

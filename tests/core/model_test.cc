@@ -55,3 +55,42 @@ TEST(DescribeModel, EmptyOrAllNaNModelIsAnError) {
 
 }  // namespace
 }  // namespace saccade
+
+namespace saccade {
+namespace {
+
+// A capture of one point copied over every pixel (a stuck sensor, a crafted file) once made
+// every neighbour search visit all 307,200 copies (minutes for one frame): copies are one place.
+TEST(KnnNormals, CopiesOfOnePlaceAreSearchedAsOne) {
+  Cloud same;
+  PointT p;
+  p.x = 0.1f, p.y = 0.2f, p.z = 1.0f;
+  same.points.assign(307200, p);
+  same.width = 640, same.height = 480;
+  const Normals none = KnnNormals(same, std::vector<std::uint8_t>(same.size(), 1), 10);
+  ASSERT_EQ(none.size(), same.size());
+  EXPECT_FALSE(none.front().allFinite());  // one place: no plane through it
+  EXPECT_FALSE(none.back().allFinite());
+
+  // A plane at z = 1 m with every point there three times: the plane's normal, facing the
+  // sensor at the origin, on every copy.
+  Cloud plane;
+  for (int copy = 0; copy < 3; ++copy)
+    for (int v = 0; v < 20; ++v)
+      for (int u = 0; u < 20; ++u) {
+        PointT q;
+        q.x = 0.005f * float(u), q.y = 0.005f * float(v), q.z = 1.0f;
+        plane.push_back(q);
+      }
+  std::vector<std::uint8_t> mask(plane.size(), 1);
+  mask[5] = 0;  // a copy whose first is not asked for still gets its own normal
+  const Normals n = KnnNormals(plane, mask, 10);
+  for (std::size_t i = 0; i < plane.size(); ++i) {
+    if (!mask[i]) continue;
+    ASSERT_TRUE(n[i].allFinite()) << i;
+    EXPECT_TRUE(n[i].isApprox(Eigen::Vector3f(0, 0, -1), 1e-4f)) << i << " " << n[i].transpose();
+  }
+}
+
+}  // namespace
+}  // namespace saccade
