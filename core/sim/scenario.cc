@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <sstream>
 
 namespace saccade {
 
@@ -98,8 +99,32 @@ bool Scenario::IsValid(std::string* error) const {
   if (!(table_height_m > 0) || !std::isfinite(table_height_m))
     return Fail(error, "table_height_m must be > 0");
   if (target.parts.empty()) return Fail(error, "target has no part");
-  for (const Trajectory* m : {&target_motion, &camera_motion})
-    if (!(m->period_s > 0)) return Fail(error, "trajectory period_s must be > 0");
+  // Within a room's reach: a value far beyond any sensor's range (a typo, a crafted file) would
+  // put objects where no pixel can see them, or at infinity.
+  constexpr float kReach = 100;  // metres, metres a second, radians (a second)
+  const auto within = [&](float v) { return std::isfinite(v) && std::abs(v) <= kReach; };
+  const auto shown = [](float v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  };
+  if (!within(table_height_m) || !within(target_bottom_y_m))
+    return Fail(error, "table_height_m and target_bottom_y_m must be within 100 m");
+  for (const Trajectory* m : {&target_motion, &camera_motion}) {
+    if (!(m->period_s > 0) || !std::isfinite(m->period_s))
+      return Fail(error, "trajectory period_s must be > 0");
+    for (const float v :
+         {m->start_xz_m.x(), m->start_xz_m.y(), m->velocity_xz_mps.x(), m->velocity_xz_mps.y(),
+          m->centre_xz_m.x(), m->centre_xz_m.y(), m->radius_m, m->yaw_rad, m->yaw_rate_radps})
+      if (!within(v))
+        return Fail(error,
+                    "a trajectory's positions, speeds, radius and angles must be within 100 (m, "
+                    "m/s, rad), got " +
+                        shown(v));
+  }
+  for (const auto& c : clutter)
+    for (const float v : {c.xz_m.x(), c.xz_m.y(), c.yaw_rad, c.bottom_y_m})
+      if (!within(v)) return Fail(error, "clutter must stand within 100 m, got " + shown(v));
   if (occluded_frames < 0) return Fail(error, "occluded_frames must be >= 0");
   return true;
 }

@@ -1,5 +1,6 @@
 #include "core/sim/synthetic.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -247,6 +248,7 @@ std::size_t CountReturns(const std::vector<SceneObject>& objects, float table_he
   for (const Placed& p : placed) {
     if (p.object->label != label) continue;
     const Eigen::Vector3f c = p.object->pose * p.centre;
+    if (!c.allFinite() || !std::isfinite(p.radius)) continue;  // nowhere a pixel can see
     const float near = c.z() - p.radius;
     if (near <= 1e-3f) {  // around or behind the camera: every pixel may see it
       u0 = v0 = 0, u1 = k.width - 1, v1 = k.height - 1;
@@ -256,10 +258,13 @@ std::size_t CountReturns(const std::vector<SceneObject>& objects, float table_he
     const double ru = k.fx * p.radius / near + 1, rv = k.fy * p.radius / near + 1;
     const Eigen::Vector2d uv = k.Project(c);
     const double cu = uv.x(), cv = uv.y();
-    u0 = std::min(u0, static_cast<int>(std::floor(std::max(0.0, cu - ru))));
-    v0 = std::min(v0, static_cast<int>(std::floor(std::max(0.0, cv - rv))));
-    u1 = std::max(u1, static_cast<int>(std::ceil(std::min(k.width - 1.0, cu + ru))));
-    v1 = std::max(v1, static_cast<int>(std::ceil(std::min(k.height - 1.0, cv + rv))));
+    // Clamped to the image before the cast: a sphere far outside it (1e30 pixels off) is an
+    // empty range, not an integer overflow.
+    const auto pixel = [](double x, double size) { return int(std::clamp(x, -1.0, size)); };
+    u0 = std::min(u0, pixel(std::floor(std::max(0.0, cu - ru)), k.width));
+    v0 = std::min(v0, pixel(std::floor(std::max(0.0, cv - rv)), k.height));
+    u1 = std::max(u1, pixel(std::ceil(std::min(k.width - 1.0, cu + ru)), k.width));
+    v1 = std::max(v1, pixel(std::ceil(std::min(k.height - 1.0, cv + rv)), k.height));
   }
   std::size_t count = 0;
   for (int v = v0; v <= v1; ++v) {

@@ -151,3 +151,35 @@ TEST(SyntheticRecognition, TargetFoundAcrossCapturesWithTheDefaults) {
 
 }  // namespace
 }  // namespace saccade
+
+namespace saccade {
+namespace {
+
+// A value far beyond a room (a table 1e30 m below, a target at 1e30 m/s) once sent the renderer
+// into a loop over billions of pixels that no signal ended: refused when the scenario is read,
+// and a pose at infinity, if one still reaches the renderer, is seen by no pixel.
+TEST(Scenario, ValuesBeyondARoomAreRefusedAndNeverRendered) {
+  const Scenario demo = *ScenarioPreset("occluded");
+  std::string error;
+  ASSERT_TRUE(demo.IsValid(&error)) << error;
+  const auto refused = [&](const char* what, auto change) {
+    Scenario s = demo;
+    change(&s);
+    EXPECT_FALSE(s.IsValid(&error)) << what;
+    EXPECT_NE(error.find("100"), std::string::npos) << what << ": " << error;
+  };
+  refused("table", [](Scenario* s) { s->table_height_m = 1e30f; });
+  refused("speed", [](Scenario* s) { s->target_motion.velocity_xz_mps.x() = 1e30f; });
+  refused("start", [](Scenario* s) { s->target_motion.start_xz_m.y() = -1e6f; });
+  refused("turn", [](Scenario* s) { s->camera_motion.yaw_rate_radps = INFINITY; });
+  refused("nan", [](Scenario* s) { s->target_motion.radius_m = NAN; });
+
+  Scenario far = demo;
+  far.target_motion.kind = Trajectory::Kind::kLinear;
+  far.target_motion.velocity_xz_mps = Eigen::Vector2f(1e30f, 0.0f);  // past IsValid, on purpose
+  const ScenarioFrame f = RenderScenarioFrame(far, 20, CameraIntrinsics{});
+  EXPECT_EQ(f.truth.visible_fraction, 0.0f);
+}
+
+}  // namespace
+}  // namespace saccade
