@@ -55,11 +55,22 @@ std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url, std::string* error) {
     close(pipe_fds[0]);
   }
   if (saved >= 0) close(saved);
-  if (lcm->good()) {
+  // liblcm opens a URL whose options it cannot read ("ttl=abc", "foo=1") and only warns: the
+  // option is silently dropped (a ttl of 0 or 1 instead of the one asked). Refused, as any
+  // setting Saccade cannot honour.
+  const bool option_ignored = said.find("Invalid value for ") != std::string::npos ||
+                              said.find("unknown provider argument") != std::string::npos;
+  if (lcm->good() && !option_ignored) {
     if (!said.empty()) std::fputs(said.c_str(), stderr);  // a warning on success goes on
     return lcm;
   }
-  const std::string reason = Reason(said);
+  std::string reason = Reason(said);
+  for (std::size_t at; (at = reason.find(" -- ")) != std::string::npos;) {
+    const std::size_t from = reason.rfind("; ", at);  // "lcm_udpm.c:237 -- " is liblcm's own
+    reason.erase(from == std::string::npos ? 0 : from + 2,
+                 at + 4 - (from == std::string::npos ? 0 : from + 2));
+  }
+  if (reason.rfind("Warning: ", 0) == 0) reason.erase(0, 9);
   Fail(error, "cannot open LCM at '" + url + "'" + (reason.empty() ? "" : ": " + reason) +
                   " (a malformed URL, or no multicast route: see docs/LCM.md)");
   return nullptr;

@@ -279,6 +279,11 @@ std::vector<BadInput> Corpus() {
       "Bad multicast IP address \"300.1.1.1\"");
   add("LogFixationsLcmUrlUnknownProvider", {},
       "log-fixations --out $D/f.csv --count 1 --lcm-url nope://", 1, "LCM provider \"nope\"");
+  // An option liblcm cannot read is only a warning of its own: the URL is refused instead.
+  add("ViewLcmUrlTtlNotANumber", {}, "view --port 0 --lcm-url 'udpm://239.255.76.67:7667?ttl=abc'",
+      1, "cannot open LCM at 'udpm://239.255.76.67:7667?ttl=abc': Invalid value for ttl");
+  add("ViewLcmUrlUnknownOption", {}, "view --port 0 --lcm-url 'udpm://239.255.76.67:7667?foo=1'", 1,
+      ": unknown provider argument foo (");
 
   // Source specs.
   auto source = [&](const std::string& name, std::vector<File> files, const std::string& spec,
