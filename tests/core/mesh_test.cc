@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -175,6 +176,63 @@ TEST(MeshModel, IsFoundFromAnySide) {
   EXPECT_GE(found_mesh, 4);  // 5 today
   EXPECT_LE(false_mesh, 2);  // 1 today
   EXPECT_GE(found_mesh, found_captured + 3);
+}
+
+}  // namespace
+}  // namespace saccade
+
+namespace saccade {
+namespace {
+
+// Two captures of the synthetic target, from the front and from the back, in its own frame
+// (as `saccade model --captures` aligns them): described together, one index finds either side;
+// the front alone finds only the front.
+TEST(ViewsModel, CapturesOfTwoSidesFindEitherSide) {
+  Scenario capture = *ScenarioPreset("static");
+  capture.target_motion.start_xz_m = {0.0f, 0.9f};
+  capture.target_motion.yaw_rad = 0.35f;
+  const Cloud front = CaptureTargetModel(capture, 1);
+  capture.target_motion.yaw_rad = 0.35f + float(M_PI);
+  const Cloud back = CaptureTargetModel(capture, 2);
+  std::string error;
+  const auto one = DescribeModel(front, RecognitionOptions{}, &error);
+  ASSERT_TRUE(one) << error;
+  const auto back_alone = DescribeModel(back, RecognitionOptions{}, &error);
+  ASSERT_TRUE(back_alone) << error;
+  const auto both = DescribeModel(std::vector<Cloud>{front, back}, RecognitionOptions{}, &error);
+  ASSERT_TRUE(both) << error;
+  EXPECT_TRUE(both->verification().whole_surface);
+  EXPECT_FALSE(one->verification().whole_surface);
+  const auto finite = [](const Cloud& c) {
+    return std::count_if(c.begin(), c.end(), [](const PointT& p) { return FinitePoint(p); });
+  };
+  EXPECT_EQ(long(both->cloud().size()), finite(front) + finite(back));
+  // Each view keeps its own keypoints: at least as many descriptors as the two apart would give
+  // (radii fitted to the bigger whole can only space them as the parts do or closer).
+  EXPECT_GE(
+      both->descriptors().size(),
+      std::size_t(0.8 * double(one->descriptors().size() + back_alone->descriptors().size())));
+
+  const auto found = [](const ModelDescription& model, float yaw, std::uint32_t seed) {
+    Scenario scene = *ScenarioPreset("static");
+    scene.seed = seed;
+    scene.target_motion.start_xz_m = {0.05f, 0.95f};
+    scene.target_motion.yaw_rad = yaw;
+    const ScenarioFrame frame = RenderScenarioFrame(scene, 0, CameraIntrinsics{});
+    SceneQuery query;
+    query.foveated = false;
+    const RecognitionResult r = Recognize(model, frame.rendered.cloud, query, RecognitionOptions{});
+    const Eigen::Matrix4f truth = frame.truth.target_pose.matrix();
+    for (const Detection& d : r.instances) {
+      const PoseError e = ComparePoses(d.model_to_scene, truth, model.centroid());
+      if (e.translation_m < 0.02 && e.rotation_deg < 10) return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(found(*both, 0.45f, 11));
+  EXPECT_TRUE(found(*both, 0.45f + float(M_PI), 12));
+  EXPECT_TRUE(found(*one, 0.45f, 11));
+  EXPECT_FALSE(found(*one, 0.45f + float(M_PI), 12));
 }
 
 }  // namespace
