@@ -96,22 +96,10 @@ std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::str
   return out;
 }
 
-namespace {
-
-// Encoded in memory, written beside its place and renamed into it, so that a full disk or a
-// failed write leaves no half file where a reader would take it for a whole one, and the error
-// says why (PCL's own file writer loses errno).
-bool SaveBlob(const std::string& path, const pcl::PCLPointCloud2& blob,
-              const Eigen::Vector4f& origin, const Eigen::Quaternionf& orientation,
-              std::string* error) {
-  std::ostringstream encoded;
-  pcl::PCDWriter writer;
-  if (writer.writeBinaryCompressed(encoded, blob, origin, orientation) < 0)
-    return Fail(error, path + ": cannot encode the cloud as a PCD file");
-  const std::string bytes = encoded.str();
+bool WriteBytes(const std::string& path, const std::string& bytes, std::string* error) {
   const std::string part = path + ".part";
   std::FILE* f = std::fopen(part.c_str(), "wb");
-  if (!f) return Fail(error, path + ": cannot write PCD file (" + std::strerror(errno) + ")");
+  if (!f) return Fail(error, path + ": cannot write it (" + std::strerror(errno) + ")");
   // Any failing step fails the write; errno says why when the C library set it.
   bool failed = false;
   int why = 0;
@@ -127,10 +115,25 @@ bool SaveBlob(const std::string& path, const pcl::PCLPointCloud2& blob,
   if (!failed) step(std::rename(part.c_str(), path.c_str()) == 0);
   if (failed) {
     std::remove(part.c_str());
-    return Fail(error, path + ": cannot write PCD file (" +
+    return Fail(error, path + ": cannot write it (" +
                            (why != 0 ? std::strerror(why) : "write failed") + ")");
   }
   return true;
+}
+
+namespace {
+
+// Encoded in memory, written beside its place and renamed into it, so that a full disk or a
+// failed write leaves no half file where a reader would take it for a whole one, and the error
+// says why (PCL's own file writer loses errno).
+bool SaveBlob(const std::string& path, const pcl::PCLPointCloud2& blob,
+              const Eigen::Vector4f& origin, const Eigen::Quaternionf& orientation,
+              std::string* error) {
+  std::ostringstream encoded;
+  pcl::PCDWriter writer;
+  if (writer.writeBinaryCompressed(encoded, blob, origin, orientation) < 0)
+    return Fail(error, path + ": cannot encode the cloud as a PCD file");
+  return WriteBytes(path, encoded.str(), error);
 }
 
 constexpr const char* kViewpointFields[] = {"vp_x", "vp_y", "vp_z"};

@@ -30,6 +30,11 @@ std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::str
 /// Errors as LoadCloud.
 std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error);
 
+/// Writes `bytes` to `path` whole or not at all: beside it (PATH.part), then renamed into it, so
+/// that a full disk or a failed write leaves no half file where a reader would take it for a
+/// whole one; false with "PATH: cannot write it (reason)".
+bool WriteBytes(const std::string& path, const std::string& bytes, std::string* error);
+
 /// Writes a binary-compressed PCD; false with `error` on failure.
 bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error);
 

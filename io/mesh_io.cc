@@ -1,6 +1,7 @@
 #include "io/mesh_io.h"
 
 #include "core/fail.h"
+#include "io/cloud_io.h"
 
 #include <pcl/PolygonMesh.h>
 #include <pcl/console/print.h>
@@ -193,6 +194,32 @@ std::optional<Mesh> LoadMesh(const std::string& path, float scale, std::string* 
   std::string why;
   if (!IsValidMesh(*mesh, &why)) return Fail(error, path + ": " + why), std::nullopt;
   return mesh;
+}
+
+bool SaveMeshPly(const std::string& path, const Mesh& mesh, std::string* error) {
+  if (!IsValidMesh(mesh, error)) return Fail(error, path + ": " + *error);
+  std::vector<std::array<std::uint8_t, 3>> colours = mesh.vertex_colours;
+  if (colours.empty() && !mesh.face_colours.empty()) {
+    colours.assign(mesh.vertices.size(), {128, 128, 128});
+    for (std::size_t t = mesh.triangles.size(); t-- > 0;)  // the first face using it wins
+      for (int v : mesh.triangles[t]) colours[std::size_t(v)] = mesh.face_colours[t];
+  }
+  std::ostringstream out;
+  out << "ply\nformat ascii 1.0\ncomment made by saccade, metres\nelement vertex "
+      << mesh.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n";
+  if (!colours.empty()) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  out << "element face " << mesh.triangles.size()
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+  out.precision(9);
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Eigen::Vector3f& v = mesh.vertices[i];
+    out << v.x() << ' ' << v.y() << ' ' << v.z();
+    if (!colours.empty())
+      out << ' ' << int(colours[i][0]) << ' ' << int(colours[i][1]) << ' ' << int(colours[i][2]);
+    out << '\n';
+  }
+  for (const auto& t : mesh.triangles) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+  return WriteBytes(path, out.str(), error);
 }
 
 }  // namespace saccade

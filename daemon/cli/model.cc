@@ -6,6 +6,8 @@
 #include "core/foveation.h"
 #include "core/mesh.h"
 #include "core/segmentation.h"
+#include "core/sim/scenario.h"
+#include "core/sim/synthetic.h"
 #include "core/view_alignment.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
@@ -172,6 +174,26 @@ int ModelFromCaptures(const Args& args, std::ostream& out, std::ostream& err) {
   return kExitOk;
 }
 
+// The synthetic Kinect's objects as the meshes a user with their CAD would have: the target
+// (the demo's) and the paper protocol's ball, in their own frames.
+int ExportSynthetic(const Args& args, std::ostream& out, std::ostream& err) {
+  const std::string name = args.Get("synthetic");
+  const std::string preset = name == "target" ? "static" : name == "ball" ? "paper-protocol" : "";
+  if (preset.empty())
+    return Usage(err, "model",
+                 "--synthetic expects target or ball, got '" + name.substr(0, 40) + "'");
+  const Mesh mesh = ShapeMesh(ScenarioPreset(preset)->target);
+  std::string error;
+  const std::string path = args.Get("out");
+  if (!SaveMeshPly(path, mesh, &error)) {
+    err << "saccade model: " << error << "\n";
+    return kExitFailure;
+  }
+  out << "wrote " << path << ": the synthetic " << name << ", " << mesh.vertices.size()
+      << " vertices, " << mesh.triangles.size() << " triangles (metres, its own frame)\n";
+  return kExitOk;
+}
+
 }  // namespace
 
 int RunModel(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
@@ -187,6 +209,9 @@ int RunModel(const std::vector<std::string>& argv, std::ostream& out, std::ostre
              "instead of a mesh: captures of the object from several sides, aligned into one "
              "model in the first capture's camera frame (each a view: where it was seen from "
              "is kept)")
+      .Value("synthetic", "target|ball",
+             "instead: write the synthetic Kinect's object as a mesh (PLY, metres, its own "
+             "frame) to --out, for other tools or `--mesh`")
       .Value("object", "K[,K...]",
              "with --captures: the object's mOSD label number, one for all or one per capture")
       .Value("pick", "RULE",
@@ -204,9 +229,10 @@ int RunModel(const std::vector<std::string>& argv, std::ostream& out, std::ostre
       .Switch("json", "print one JSON object instead of text");
   if (auto code = args.Parse(argv, out, err)) return *code;
   if (!args.Has("out")) return Usage(err, "model", "missing --out");
-  if (args.Has("mesh") == args.Has("captures"))
-    return Usage(err, "model", "expects --mesh or --captures (one of them)");
+  if (int(args.Has("mesh")) + int(args.Has("captures")) + int(args.Has("synthetic")) != 1)
+    return Usage(err, "model", "expects one of --mesh, --captures and --synthetic");
   if (args.Has("captures")) return ModelFromCaptures(args, out, err);
+  if (args.Has("synthetic")) return ExportSynthetic(args, out, err);
   const std::string unit = args.Get("unit", "m");
   if (unit != "m" && unit != "mm")
     return Usage(err, "model", "--unit expects m or mm, got '" + unit.substr(0, 40) + "'");

@@ -154,6 +154,34 @@ std::optional<Eigen::Matrix4f> FirstPose(const std::string& json) {
   return m;
 }
 
+TEST(Cli, TheSyntheticObjectsAreExportedAsMeshesAModelIsMadeOf) {
+  const std::string ply = ::testing::TempDir() + "synthetic_target.ply";
+  std::filesystem::remove(ply);
+  const CliRun r = Saccade("model --synthetic target --out " + ply);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("the synthetic target, 4808 vertices, 9228 triangles"), std::string::npos)
+      << r.out;
+  EXPECT_FALSE(std::filesystem::exists(ply + ".part"));
+  // Read back as any mesh: the target's 14 x 14 x 10 cm (as rendered, within the spacing).
+  const std::string model = ::testing::TempDir() + "synthetic_target_model.pcd";
+  const CliRun m = Saccade("model --mesh " + ply + " --out " + model + " --json");
+  ASSERT_EQ(m.code, 0) << m.out;
+  EXPECT_NE(m.out.find("\"triangles\":9228"), std::string::npos) << m.out;
+  const auto at = m.out.find("\"size_m\":[");
+  ASSERT_NE(at, std::string::npos) << m.out;
+  float x = 0, y = 0, z = 0;
+  ASSERT_EQ(std::sscanf(m.out.c_str() + at + 10, "%f,%f,%f", &x, &y, &z), 3) << m.out;
+  EXPECT_NEAR(x, 0.158f, 0.01f);
+  EXPECT_NEAR(y, 0.147f, 0.01f);
+  EXPECT_NEAR(z, 0.100f, 0.01f);
+  const CliRun ball = Saccade("model --synthetic ball --out " + ::testing::TempDir() + "b.ply");
+  EXPECT_EQ(ball.code, 0) << ball.out;
+  const CliRun bad = Saccade("model --synthetic teapot --out " + ply);
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("--synthetic expects target or ball, got 'teapot'"), std::string::npos)
+      << bad.out;
+}
+
 TEST(Cli, ModelFromCapturesIsFoundInACaptureItNeverSaw) {
   SACCADE_REQUIRE_DATA("mosd_xcap/learn/learn43.pcd");
   const auto data = [](const std::string& f) {
