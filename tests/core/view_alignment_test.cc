@@ -4,6 +4,7 @@
 
 #include "core/recognition.h"
 #include "io/cloud_io.h"
+#include "support/mosd_truth.h"
 #include "support/test_data.h"
 
 #include <gtest/gtest.h>
@@ -99,24 +100,7 @@ Cloud CutCan(const std::string& relative) {
 TEST(AlignViews, PutsOneRealCaptureOfACanOnAnother) {
   SACCADE_REQUIRE_DATA("mosd_xcap/test/test36.pcd");
   const Cloud a = CutCan("mosd_xcap/test/test36.pcd"), b = CutCan("mosd_xcap/test/test38.pcd");
-  // The benchmark's truth (cases_with_pose.yaml, coffee_can-test36-in-test38).
-  const float t[16] = {0.9998525f,
-                       -0.002822749f,
-                       0.01691915f,
-                       0.04683755f,
-                       0.002908148f,
-                       0.9999831f,
-                       -0.005017745f,
-                       0.04503625f,
-                       -0.01690458f,
-                       0.005066187f,
-                       0.9998439f,
-                       -0.06315316f,
-                       0,
-                       0,
-                       0,
-                       1};
-  const Eigen::Matrix4f truth = Eigen::Map<const Eigen::Matrix<float, 4, 4, Eigen::RowMajor>>(t);
+  const Eigen::Matrix4f truth = testing::CoffeeCanTest36InTest38();
   std::string error;
   const AlignmentOptions options;
   const auto described = DescribeModel(a, options.recognition, &error);

@@ -1,6 +1,7 @@
 // End-to-end tests of the `saccade` binary: bad input gives one line and the right exit code.
 #include "core/segmentation.h"
 #include "io/cloud_io.h"
+#include "support/mosd_truth.h"
 #include "support/test_data.h"
 
 #include <gtest/gtest.h>
@@ -99,6 +100,16 @@ TEST(Cli, EveryCommandsHelpListsFlagsItAccepts) {
   EXPECT_NE(Saccade("bench --help").out.find("--threads N"), std::string::npos);
 }
 
+// The "size_m":[x,y,z] of `saccade model --json`.
+std::optional<Eigen::Vector3f> SizeM(const std::string& json) {
+  const auto at = json.find("\"size_m\":[");
+  Eigen::Vector3f v;
+  if (at == std::string::npos ||
+      std::sscanf(json.c_str() + at + 10, "%f,%f,%f", &v.x(), &v.y(), &v.z()) != 3)
+    return std::nullopt;
+  return v;
+}
+
 TEST(Cli, ModelMakesAWholeSurfaceModelOfAMeshAndRefusesABrokenOne) {
   // A 10 x 6 x 4 cm box in millimetres, its six faces as quads.
   const std::string mesh =
@@ -113,13 +124,9 @@ TEST(Cli, ModelMakesAWholeSurfaceModelOfAMeshAndRefusesABrokenOne) {
   EXPECT_NE(r.out.find("\"triangles\":12"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"views\":42"), std::string::npos) << r.out;
   // The size in metres: 0.1 x 0.06 x 0.04 within a spacing.
-  const auto at = r.out.find("\"size_m\":[");
-  ASSERT_NE(at, std::string::npos) << r.out;
-  float x = 0, y = 0, z = 0;
-  ASSERT_EQ(std::sscanf(r.out.c_str() + at + 10, "%f,%f,%f", &x, &y, &z), 3) << r.out;
-  EXPECT_NEAR(x, 0.1f, 0.002f);
-  EXPECT_NEAR(y, 0.06f, 0.002f);
-  EXPECT_NEAR(z, 0.04f, 0.002f);
+  const auto size = SizeM(r.out);
+  ASSERT_TRUE(size) << r.out;
+  EXPECT_TRUE(size->isApprox(Eigen::Vector3f(0.1f, 0.06f, 0.04f), 0.03f)) << size->transpose();
   // About the box's area over the 2 mm spacing squared (6,200 cells).
   const auto points = r.out.find("\"points\":");
   ASSERT_NE(points, std::string::npos);
@@ -167,13 +174,9 @@ TEST(Cli, TheSyntheticObjectsAreExportedAsMeshesAModelIsMadeOf) {
   const CliRun m = Saccade("model --mesh " + ply + " --out " + model + " --json");
   ASSERT_EQ(m.code, 0) << m.out;
   EXPECT_NE(m.out.find("\"triangles\":9228"), std::string::npos) << m.out;
-  const auto at = m.out.find("\"size_m\":[");
-  ASSERT_NE(at, std::string::npos) << m.out;
-  float x = 0, y = 0, z = 0;
-  ASSERT_EQ(std::sscanf(m.out.c_str() + at + 10, "%f,%f,%f", &x, &y, &z), 3) << m.out;
-  EXPECT_NEAR(x, 0.158f, 0.01f);
-  EXPECT_NEAR(y, 0.147f, 0.01f);
-  EXPECT_NEAR(z, 0.100f, 0.01f);
+  const auto size = SizeM(m.out);
+  ASSERT_TRUE(size) << m.out;
+  EXPECT_TRUE(size->isApprox(Eigen::Vector3f(0.158f, 0.147f, 0.100f), 0.05f)) << size->transpose();
   const CliRun ball = Saccade("model --synthetic ball --out " + ::testing::TempDir() + "b.ply");
   EXPECT_EQ(ball.code, 0) << ball.out;
   const CliRun bad = Saccade("model --synthetic teapot --out " + ply);
@@ -204,29 +207,8 @@ TEST(Cli, ModelFromCapturesIsFoundInACaptureItNeverSaw) {
   ASSERT_EQ(found.code, 0) << found.out;
   const auto pose = FirstPose(found.out);
   ASSERT_TRUE(pose) << found.out;
-  const float to_learn43[16] = {0.8646999f,  -0.2851199f, 0.4135228f,  -0.03086935f,
-                                0.2728591f,  0.957848f,   0.08986289f, 0.1315799f,
-                                -0.4217136f, 0.03512901f, 0.9060484f,  -0.226622f,
-                                0,           0,           0,           1};
-  const float to_test38[16] = {0.9998525f,
-                               -0.002822749f,
-                               0.01691915f,
-                               0.04683755f,
-                               0.002908148f,
-                               0.9999831f,
-                               -0.005017745f,
-                               0.04503625f,
-                               -0.01690458f,
-                               0.005066187f,
-                               0.9998439f,
-                               -0.06315316f,
-                               0,
-                               0,
-                               0,
-                               1};
-  using RowMajor = Eigen::Matrix<float, 4, 4, Eigen::RowMajor>;
-  const Eigen::Matrix4f truth = Eigen::Matrix4f(Eigen::Map<const RowMajor>(to_learn43)) *
-                                Eigen::Matrix4f(Eigen::Map<const RowMajor>(to_test38)).inverse();
+  const Eigen::Matrix4f truth = saccade::testing::CoffeeCanTest36InLearn43() *
+                                saccade::testing::CoffeeCanTest36InTest38().inverse();
   std::string error;
   const auto model = saccade::LoadModelCloud(out, &error);
   ASSERT_TRUE(model) << error;
