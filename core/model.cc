@@ -205,6 +205,14 @@ Descriptors DescribeViews(const Cloud& surface, const ModelScale& scale,
 
 }  // namespace
 
+Cloud MergeViews(const std::vector<Cloud>& views) {
+  Cloud all;
+  for (const Cloud& view : views)
+    for (const PointT& p : view.points)
+      if (FinitePoint(p)) all.push_back(p);
+  return all;
+}
+
 std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& given,
                                               std::string* error) {
   return DescribeModel(std::vector<Cloud>{model}, given, error);

@@ -83,6 +83,10 @@ std::optional<Eigen::Vector3f> FiniteCentroid(const Cloud& cloud);
 std::optional<ModelDescription> DescribeModel(const Cloud& model, const RecognitionOptions& options,
                                               std::string* error);
 
+/// The finite points of every view, in order, as one cloud (a model of views as any reader of
+/// one cloud sees it).
+Cloud MergeViews(const std::vector<Cloud>& views);
+
 /// A model captured from several places: `views` in one model frame, each with its sensor
 /// origin (sensor_origin_, in that frame). Each view is described as a captured model is (its
 /// normals facing its sensor) and every descriptor joins one index, so that a scene showing any

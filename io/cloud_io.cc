@@ -57,23 +57,29 @@ bool ReadBlob(const std::string& path, pcl::PCLPointCloud2* blob, Eigen::Vector4
   return true;
 }
 
+// The blob's points as XYZRGBA with the viewpoint it was read with (PCL's conversion resets it).
+Cloud FromBlob(const pcl::PCLPointCloud2& blob, const Eigen::Vector4f& origin,
+               const Eigen::Quaternionf& orientation) {
+  Cloud cloud;
+  pcl::fromPCLPointCloud2(blob, cloud);
+  cloud.sensor_origin_ = origin;
+  cloud.sensor_orientation_ = orientation;
+  return cloud;
+}
+
 }  // namespace
 
 std::optional<Cloud> LoadCloud(const std::string& path, std::string* error) {
   pcl::PCLPointCloud2 blob;
-  Cloud cloud;
-  if (!ReadBlob(path, &blob, &cloud.sensor_origin_, &cloud.sensor_orientation_, error)) {
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  if (!ReadBlob(path, &blob, &origin, &orientation, error)) {
     if (error && IsMeshPath(path))
       *error += " (a mesh: make a model of it with `saccade model --mesh " +
                 std::filesystem::path(path).filename().string() + " --out MODEL.pcd`)";
     return std::nullopt;
   }
-  const Eigen::Vector4f origin = cloud.sensor_origin_;
-  const Eigen::Quaternionf orientation = cloud.sensor_orientation_;
-  pcl::fromPCLPointCloud2(blob, cloud);
-  cloud.sensor_origin_ = origin;
-  cloud.sensor_orientation_ = orientation;
-  return cloud;
+  return FromBlob(blob, origin, orientation);
 }
 
 std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::string* error) {
@@ -86,9 +92,7 @@ std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::str
     return std::nullopt;
   }
   LabelledCloud out;
-  pcl::fromPCLPointCloud2(blob, out.cloud);
-  out.cloud.sensor_origin_ = origin;
-  out.cloud.sensor_orientation_ = orientation;
+  out.cloud = FromBlob(blob, origin, orientation);
   pcl::PointCloud<pcl::Label> labels;
   pcl::fromPCLPointCloud2(blob, labels);
   out.labels.reserve(labels.size());
@@ -241,20 +245,22 @@ std::optional<std::vector<Cloud>> LoadModelViews(const std::string& spec, std::s
   pcl::PCLPointCloud2 blob;
   Eigen::Vector4f origin;
   Eigen::Quaternionf orientation;
-  if (!is_file || !ReadBlob(spec, &blob, &origin, &orientation, nullptr) ||
-      pcl::getFieldIndex(blob, kViewpointFields[0]) < 0) {
+  // A file is read once: a plain PCD is one view; what cannot be read is read again by
+  // LoadModelCloud, for its error (and its hint when the file is a mesh).
+  if (!is_file || !ReadBlob(spec, &blob, &origin, &orientation, nullptr)) {
     auto one = LoadModelCloud(spec, error);
     if (!one) return std::nullopt;
     return std::vector<Cloud>{std::move(*one)};
   }
+  if (pcl::getFieldIndex(blob, kViewpointFields[0]) < 0)
+    return std::vector<Cloud>{FromBlob(blob, origin, orientation)};
   for (const char* name : kViewpointFields)
     if (const int f = pcl::getFieldIndex(blob, name);
         f < 0 || blob.fields[std::size_t(f)].datatype != pcl::PCLPointField::FLOAT32) {
       Fail(error, spec + ": a model of several views needs float vp_x, vp_y and vp_z fields");
       return std::nullopt;
     }
-  Cloud all;
-  pcl::fromPCLPointCloud2(blob, all);
+  const Cloud all = FromBlob(blob, origin, orientation);
   pcl::PointCloud<pcl::PointWithViewpoint> seen_from;
   pcl::fromPCLPointCloud2(blob, seen_from);
   // Points seen from one sensor origin are one view, in the order the views first appear.

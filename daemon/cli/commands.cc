@@ -50,8 +50,16 @@ std::optional<int> LoadInputs(const Args& args, const std::string& command, Inpu
   }
   for (const char* name : {"model", "scene"}) {
     if (!args.Has(name)) return Usage(err, command, std::string("missing --") + name);
-    auto cloud = std::string(name) == "model" ? LoadModelCloud(args.Get(name), &error)
-                                              : LoadCloud(args.Get(name), &error);
+    // The model is read once, as its views (one for a captured model).
+    std::optional<Cloud> cloud;
+    if (std::string(name) == "model") {
+      if (auto views = LoadModelViews(args.Get(name), &error)) {
+        cloud = views->size() == 1 ? views->front() : MergeViews(*views);
+        in->model_views = std::move(*views);
+      }
+    } else {
+      cloud = LoadCloud(args.Get(name), &error);
+    }
     if (!cloud) {
       err << "saccade " << command << ": " << error << "\n";
       return kExitFailure;
@@ -62,12 +70,6 @@ std::optional<int> LoadInputs(const Args& args, const std::string& command, Inpu
     }
     (std::string(name) == "model" ? in->model : in->scene) = std::move(*cloud);
   }
-  auto views = LoadModelViews(args.Get("model"), &error);
-  if (!views) {
-    err << "saccade " << command << ": " << error << "\n";
-    return kExitFailure;
-  }
-  in->model_views = std::move(*views);
   return std::nullopt;
 }
 

@@ -121,11 +121,16 @@ int ModelFromCaptures(const Args& args, std::ostream& out, std::ostream& err) {
     err << "saccade model: " << error << "\n";
     return kExitFailure;
   }
-  Cloud all;
-  for (const Cloud& v : views)
-    for (const PointT& p : v.points)
-      if (FinitePoint(p)) all.push_back(p);
+  const Cloud all = MergeViews(views);
   const Eigen::Vector3f size = BoundingBox(all)->Size();
+  // The alignment that joined capture i to its parent in the chain: of the two directions, the
+  // found one of more overlap.
+  const auto joined = [&](std::size_t i) -> const ViewAlignment& {
+    const std::size_t p = std::size_t(parent[i]);
+    return pairs[i][p].found && (!pairs[p][i].found || pairs[i][p].overlap >= pairs[p][i].overlap)
+               ? pairs[i][p]
+               : pairs[p][i];
+  };
   if (args.Has("json")) {
     JsonWriter j;
     j.BeginObject().Key("model").Value(out_path).Key("points").Value(all.size());
@@ -135,10 +140,7 @@ int ModelFromCaptures(const Args& args, std::ostream& out, std::ostream& err) {
       j.BeginObject().Key("capture").Value(paths[i]).Key("points").Value(CountFinite(cuts[i]));
       if (parent[i] >= 0) {
         const std::size_t p = std::size_t(parent[i]);
-        const ViewAlignment& a =
-            pairs[i][p].found && (!pairs[p][i].found || pairs[i][p].overlap >= pairs[p][i].overlap)
-                ? pairs[i][p]
-                : pairs[p][i];
+        const ViewAlignment& a = joined(i);
         j.Key("joined_to").Value(paths[p]).Key("overlap").Value(double(a.overlap));
         j.Key("rmse_m").Value(double(a.rmse_m)).Key("seen_through").Value(double(a.seen_through));
         j.Key("colour_agreement").Value(double(a.colour));
@@ -157,10 +159,7 @@ int ModelFromCaptures(const Args& args, std::ostream& out, std::ostream& err) {
       continue;
     }
     const std::size_t p = std::size_t(parent[i]);
-    const ViewAlignment& a =
-        pairs[i][p].found && (!pairs[p][i].found || pairs[i][p].overlap >= pairs[p][i].overlap)
-            ? pairs[i][p]
-            : pairs[p][i];
+    const ViewAlignment& a = joined(i);
     out << ", joined to " << paths[p] << ": " << int(std::lround(100 * a.overlap)) << "% overlap, "
         << 1000 * a.rmse_m << " mm RMS, " << int(std::lround(100 * a.seen_through))
         << "% seen through";

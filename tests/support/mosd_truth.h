@@ -12,10 +12,22 @@ inline Eigen::Matrix4f RowMajorPose(const float (&t)[16]) {
 
 /// coffee_can-test36-in-test38: the can (object 4) of test36 into test38's frame.
 inline Eigen::Matrix4f CoffeeCanTest36InTest38() {
-  const float t[16] = {0.9998525f,   -0.002822749f, 0.01691915f,   0.04683755f,  //
-                       0.002908148f, 0.9999831f,    -0.005017745f, 0.04503625f,  //
-                       -0.01690458f, 0.005066187f,  0.9998439f,    -0.06315316f, //
-                       0,            0,             0,             1};
+  const float t[16] = {0.9998525f,
+                       -0.002822749f,
+                       0.01691915f,
+                       0.04683755f,  //
+                       0.002908148f,
+                       0.9999831f,
+                       -0.005017745f,
+                       0.04503625f,  //
+                       -0.01690458f,
+                       0.005066187f,
+                       0.9998439f,
+                       -0.06315316f,  //
+                       0,
+                       0,
+                       0,
+                       1};
   return RowMajorPose(t);
 }
 
