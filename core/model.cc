@@ -45,12 +45,22 @@ ModelScale MeasureModel(const Cloud& model) {
 RecognitionOptions FitRadii(const RecognitionOptions& base, const ModelScale& scale) {
   RecognitionOptions o = base;
   if (!(scale.size_m > 0)) return o;
-  const float shot = std::max(scale.size_m / 6, 8 * scale.spacing_m);
+  const float shot = scale.shot_radius_m > 0 ? scale.shot_radius_m
+                                             : std::max(scale.size_m / 6, 8 * scale.spacing_m);
   o.scene_shot_radius_m = o.model_shot_radius_m = shot;
   o.scene_lrf_radius_m = o.model_lrf_radius_m = 0.75f * shot;
   o.scene_keypoint_radius_m = o.model_keypoint_radius_m = std::max(shot / 4, scale.spacing_m);
   o.hough_bin_m = o.pose_inlier_threshold_m = shot / 2;
   return o;
+}
+
+ModelScale OnRadiusGrid(const ModelScale& scale, float ratio) {
+  if (!(ratio > 1) || !(scale.size_m > 0)) return scale;
+  const float fitted = std::max(scale.size_m / 6, 8 * scale.spacing_m);
+  const float unit = 0.03f, steps = std::round(std::log(fitted / unit) / std::log(ratio));
+  ModelScale out = scale;
+  out.shot_radius_m = unit * std::pow(ratio, steps);
+  return out;
 }
 
 RecognitionOptions RadiiForModel(const RecognitionOptions& options, const ModelScale& scale) {
@@ -93,20 +103,56 @@ struct ShotL2 {
 
 }  // namespace
 
-struct ModelDescription::Index {
+struct ShotIndex::Impl {
   std::vector<float> data;  // owned copy the FLANN matrix points into
   std::unique_ptr<flann::KMeansIndex<ShotL2>> kmeans;
+  int checks = 0;
 };
+
+ShotIndex::ShotIndex(std::vector<float> shots, const RecognitionOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->data = std::move(shots);
+  impl_->checks = options.match_checks;
+  flann::Matrix<float> data(impl_->data.data(), impl_->data.size() / kShotLength, kShotLength);
+  // A hierarchical k-means tree with k-means++ seeding: FLANN draws those seeds from std::rand,
+  // which we seed, so the index (and every match) is the same on every run. (FLANN's
+  // randomized kd-trees shuffle with std::random_device and cannot be made repeatable.)
+  // std::rand is one process-wide sequence and FLANN offers no other: the seed and the build
+  // that draws from it are one critical section, so two indices built at once (a model
+  // switch while the evaluation describes another, say) each get the seeded sequence.
+  static std::mutex rand_mutex;
+  std::lock_guard<std::mutex> lock(rand_mutex);
+  std::srand(options.match_seed);
+  impl_->kmeans = std::make_unique<flann::KMeansIndex<ShotL2>>(
+      data, flann::KMeansIndexParams(options.match_branching, 11, flann::FLANN_CENTERS_KMEANSPP));
+  impl_->kmeans->buildIndex();
+}
+
+ShotIndex::~ShotIndex() = default;
+
+std::pair<int, float> ShotIndex::Nearest(const float* shot, float max_sqr_distance) const {
+  NearestWithin result(max_sqr_distance);
+  impl_->kmeans->findNeighbors(result, shot, flann::SearchParams(impl_->checks));
+  return {result.index(), result.sqr_distance()};
+}
+
+std::vector<std::pair<int, float>> ShotIndex::NearestK(const float* shot, int k,
+                                                       float max_sqr_distance) const {
+  std::vector<std::size_t> indices(std::size_t(k), 0);
+  std::vector<float> distances(std::size_t(k), std::numeric_limits<float>::infinity());
+  flann::KNNResultSet2<float> result{std::size_t(k)};
+  impl_->kmeans->findNeighbors(result, shot, flann::SearchParams(impl_->checks));
+  const std::size_t found = std::min<std::size_t>(result.size(), std::size_t(k));
+  result.copy(indices.data(), distances.data(), found, true);
+  std::vector<std::pair<int, float>> out;
+  for (std::size_t i = 0; i < found; ++i)
+    if (distances[i] < max_sqr_distance) out.emplace_back(int(indices[i]), distances[i]);
+  return out;
+}
 
 ModelDescription::~ModelDescription() = default;
 ModelDescription::ModelDescription(ModelDescription&&) noexcept = default;
 ModelDescription& ModelDescription::operator=(ModelDescription&&) noexcept = default;
-
-std::pair<int, float> ModelDescription::Nearest(const float* shot, float max_sqr_distance) const {
-  NearestWithin result(max_sqr_distance);
-  index_->kmeans->findNeighbors(result, shot, flann::SearchParams(checks_));
-  return {result.index(), result.sqr_distance()};
-}
 
 std::optional<Eigen::Vector3f> FiniteCentroid(const Cloud& cloud) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -219,7 +265,8 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
 }
 
 std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>& views,
-                                              const RecognitionOptions& given, std::string* error) {
+                                              const RecognitionOptions& given, std::string* error,
+                                              float radius_ratio) {
   ModelDescription out;
   // Only finite points make the model; its frame and units stay those of the file. Each view's
   // points follow the previous view's: view v is [starts[v], starts[v + 1]).
@@ -233,7 +280,7 @@ std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>& views,
     Fail(error, "model has no finite point");
     return std::nullopt;
   }
-  out.scale_ = MeasureModel(out.cloud_);
+  out.scale_ = OnRadiusGrid(MeasureModel(out.cloud_), radius_ratio);
   const RecognitionOptions options = RadiiForModel(given, out.scale_);
   out.cloud_.width = static_cast<std::uint32_t>(out.cloud_.size());
   out.cloud_.height = 1;
@@ -292,24 +339,7 @@ std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>& views,
     Fail(error, "model has no describable keypoint (too few points for the SHOT radius?)");
     return std::nullopt;
   }
-  out.index_ = std::make_unique<ModelDescription::Index>();
-  out.index_->data = out.descriptors_.shot;
-  flann::Matrix<float> data(out.index_->data.data(), out.descriptors_.size(), kShotLength);
-  // A hierarchical k-means tree with k-means++ seeding: FLANN draws those seeds from std::rand,
-  // which we seed, so the index (and every match) is the same on every run. (FLANN's
-  // randomized kd-trees shuffle with std::random_device and cannot be made repeatable.)
-  // std::rand is one process-wide sequence and FLANN offers no other: the seed and the build
-  // that draws from it are one critical section, so two models described at once (a model
-  // switch while the evaluation describes another, say) each get the seeded sequence.
-  {
-    static std::mutex rand_mutex;
-    std::lock_guard<std::mutex> lock(rand_mutex);
-    std::srand(options.match_seed);
-    out.index_->kmeans = std::make_unique<flann::KMeansIndex<ShotL2>>(
-        data, flann::KMeansIndexParams(options.match_branching, 11, flann::FLANN_CENTERS_KMEANSPP));
-    out.index_->kmeans->buildIndex();
-  }
-  out.checks_ = options.match_checks;
+  out.index_ = std::make_unique<ShotIndex>(out.descriptors_.shot, options);
   return out;
 }
 

@@ -20,7 +20,15 @@ namespace saccade {
 struct ModelScale {
   float size_m = 0;     // the diagonal of its bounding box
   float spacing_m = 0;  // the median distance from a point to its nearest neighbour
+  /// The SHOT radius FitRadii gives, when set (a library's grid, OnRadiusGrid); 0: fitted from
+  /// the size and spacing.
+  float shot_radius_m = 0;
 };
+
+/// `scale` with the SHOT radius FitRadii would fit rounded to the nearest 3 cm x ratio^k:
+/// models whose radii round alike describe a frame alike, once for all of them
+/// (core/library.h). Unchanged when ratio <= 1 or the scale is empty.
+ModelScale OnRadiusGrid(const ModelScale& scale, float ratio);
 
 /// The scale of the model's finite points; zeros when it has fewer than two.
 ModelScale MeasureModel(const Cloud& model);
@@ -36,6 +44,29 @@ RecognitionOptions FitRadii(const RecognitionOptions& base, const ModelScale& sc
 /// The options a model of `scale` is described and searched with: FitRadii(options, scale) when
 /// options.radii_from_model is set, else `options` as they are.
 RecognitionOptions RadiiForModel(const RecognitionOptions& options, const ModelScale& scale);
+
+/// A search index over SHOT descriptors: FLANN's hierarchical k-means tree, seeded
+/// (options.match_seed, match_branching, match_checks), so that every build and every match is
+/// the same on every run. Immutable once built; safe to share between threads.
+class ShotIndex {
+ public:
+  /// `shots`: rows of kShotLength floats (at least one row).
+  ShotIndex(std::vector<float> shots, const RecognitionOptions& options);
+  ~ShotIndex();
+  ShotIndex(const ShotIndex&) = delete;
+  ShotIndex& operator=(const ShotIndex&) = delete;
+  /// Nearest row to `shot` within sqrt(max_sqr_distance): its index (-1 when none is that near)
+  /// and squared distance. The bound prunes the search.
+  std::pair<int, float> Nearest(
+      const float* shot, float max_sqr_distance = std::numeric_limits<float>::infinity()) const;
+  /// The k nearest rows within sqrt(max_sqr_distance), nearest first (fewer when fewer are).
+  std::vector<std::pair<int, float>> NearestK(const float* shot, int k,
+                                              float max_sqr_distance) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// The model, described once: its keypoints, their frames and descriptors, and a search
 /// index over the descriptors. Immutable after DescribeModel; safe to share between threads.
@@ -59,20 +90,21 @@ class ModelDescription {
   /// index into descriptors() (-1 when none is that near) and squared distance. The bound
   /// prunes the search.
   std::pair<int, float> Nearest(
-      const float* shot, float max_sqr_distance = std::numeric_limits<float>::infinity()) const;
+      const float* shot, float max_sqr_distance = std::numeric_limits<float>::infinity()) const {
+    return index_->Nearest(shot, max_sqr_distance);
+  }
 
  private:
   friend std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>&,
-                                                       const RecognitionOptions&, std::string*);
+                                                       const RecognitionOptions&, std::string*,
+                                                       float);
   ModelDescription() = default;
   Cloud cloud_;
   Descriptors descriptors_;
   Eigen::Vector3f centroid_ = Eigen::Vector3f::Zero();
   VerificationModel verification_;
   ModelScale scale_;
-  struct Index;
-  std::unique_ptr<Index> index_;
-  int checks_ = 0;  // set from RecognitionOptions::match_checks by DescribeModel
+  std::unique_ptr<ShotIndex> index_;
 };
 
 /// The centroid of the finite points, in the cloud's frame; nullopt when none is finite.
@@ -91,9 +123,10 @@ Cloud MergeViews(const std::vector<Cloud>& views);
 /// origin (sensor_origin_, in that frame). Each view is described as a captured model is (its
 /// normals facing its sensor) and every descriptor joins one index, so that a scene showing any
 /// of the views' sides votes for one pose; verification counts the points a pose turns towards
-/// the camera. One view is DescribeModel(view).
+/// the camera. One view is DescribeModel(view). `radius_ratio` > 1 puts the fitted radii on
+/// that grid (OnRadiusGrid), for a model searched in a library.
 std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>& views,
-                                              const RecognitionOptions& options,
-                                              std::string* error);
+                                              const RecognitionOptions& options, std::string* error,
+                                              float radius_ratio = 1);
 
 }  // namespace saccade

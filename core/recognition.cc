@@ -60,15 +60,11 @@ std::size_t RecognitionStats::TotalKeypoints() const {
   return std::accumulate(level_keypoints.begin(), level_keypoints.end(), std::size_t{0});
 }
 
-RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
-                            const SceneQuery& query, const RecognitionOptions& given,
-                            const ParallelFor& parallel_for, std::string* error) {
-  SACCADE_CHECK_VALID(given);
-  SACCADE_CHECK_VALID(query.fovea);
-  const RecognitionOptions options = RadiiForModel(given, model.scale());
-  RecognitionResult result;
-  auto& stats = result.stats;
-  const auto t_total = Clock::now();
+std::optional<SceneDescription> DescribeScene(const Cloud& scene, const SceneQuery& query,
+                                              const RecognitionOptions& options,
+                                              const ParallelFor& parallel_for, std::string* error) {
+  SceneDescription out;
+  auto& stats = out.stats;
   auto t = Clock::now();
 
   // 1. Which points to keep, per level, and with which keypoint radius. Only the levels fine
@@ -76,13 +72,14 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   std::optional<CameraIntrinsics> intrinsics = query.intrinsics;
   if (!intrinsics && scene.height > 1) intrinsics = EstimateIntrinsics(scene);
   const bool organized = intrinsics.has_value() && scene.height > 1;
+  if (organized) out.intrinsics = intrinsics;
   std::vector<std::vector<int>> level_points;  // indices into `scene`
   std::vector<float> level_radius;
   if (query.foveated) {
     const auto bounds = BoundingBox(scene);
     if (!bounds) {
       Fail(error, "scene has no finite point");
-      return result;
+      return std::nullopt;
     }
     const FoveaGeometry geometry = ComputeFoveaGeometry(query.fovea, *bounds, query.fovea_m);
     int first = query.fovea.finest_level;
@@ -92,14 +89,14 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
         FoveateIndices(scene, query.fovea, geometry, first, organized ? &*intrinsics : nullptr);
     for (int k = 0; k <= query.fovea.finest_level; ++k)
       level_radius.push_back(LevelKeypointRadius(query.fovea, k));
-    result.fovea = geometry;
+    out.fovea = geometry;
   } else {
     level_points.emplace_back();
     for (int i = 0, n = static_cast<int>(scene.size()); i < n; ++i)
       if (FinitePoint(scene[i])) level_points.back().push_back(i);
     if (level_points.back().empty()) {
       Fail(error, "scene has no finite point");
-      return result;
+      return std::nullopt;
     }
     level_radius.push_back(options.scene_keypoint_radius_m);
   }
@@ -139,7 +136,6 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
                                         parallel_for)
                      : KnnNormals(scene, where, options.scene_normal_neighbors);
   };
-  Descriptors scene_desc;
   if (organized && options.max_support_half_window_px > 0) {
     t = Clock::now();
     const Supports supports = FindSupports(scene, keypoints, *search, describe, parallel_for);
@@ -148,20 +144,72 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
     const Normals normals = normals_on(SupportMask(supports, scene.size()));
     stats.stage_ms.emplace_back("normals", MsSince(t));
     t = Clock::now();
-    scene_desc = DescribeKeypoints(scene, normals, keypoints, supports, describe, parallel_for);
+    out.descriptors =
+        DescribeKeypoints(scene, normals, keypoints, supports, describe, parallel_for);
     stats.stage_ms.emplace_back("describe", ms_supports + MsSince(t));
   } else {
     t = Clock::now();
     const Normals normals = normals_on(mask);
     stats.stage_ms.emplace_back("normals", MsSince(t));
     t = Clock::now();
-    scene_desc = DescribeKeypoints(scene, normals, keypoints, *search, describe, parallel_for);
+    out.descriptors = DescribeKeypoints(scene, normals, keypoints, *search, describe, parallel_for);
     stats.stage_ms.emplace_back("describe", MsSince(t));
   }
-  stats.described = scene_desc.size();
+  stats.described = out.descriptors.size();
+  return out;
+}
+
+void GroupAndVerify(const ModelDescription& model, const Cloud& scene,
+                    const SceneDescription& described,
+                    const std::vector<std::pair<int, int>>& correspondences,
+                    const RecognitionOptions& options, const ParallelFor& parallel_for,
+                    RecognitionResult* result) {
+  auto& stats = result->stats;
+  const Descriptors& scene_desc = described.descriptors;
+  stats.correspondences = correspondences.size();
+  for (const auto& [m, d] : correspondences)
+    result->correspondences.emplace_back(model.descriptors().keypoint[m], scene_desc.keypoint[d]);
+
+  // 5. Hough voting and pose per instance.
+  auto t = Clock::now();
+  result->instances = HoughGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc,
+                                 scene, correspondences, options);
+  if (options.consensus_grouping)
+    result->instances =
+        MergeHypotheses(std::move(result->instances),
+                        ConsensusGroup(model.descriptors(), model.cloud(), model.centroid(),
+                                       scene_desc, scene, correspondences, options),
+                        2.0f * options.hough_bin_m);
+  stats.hypotheses = result->instances.size();
+  result->hypotheses = result->instances;
+  stats.stage_ms.emplace_back("group", MsSince(t));
+
+  // 6. Keep the hypotheses the scene confirms, refined.
+  t = Clock::now();
+  if (options.verify.enabled)
+    result->instances = VerifyInstances(model.verification(), model.centroid(), scene,
+                                        described.intrinsics, std::move(result->instances),
+                                        options.verify, parallel_for, &result->verdicts);
+  stats.stage_ms.emplace_back("verify", MsSince(t));
+}
+
+RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
+                            const SceneQuery& query, const RecognitionOptions& given,
+                            const ParallelFor& parallel_for, std::string* error) {
+  SACCADE_CHECK_VALID(given);
+  SACCADE_CHECK_VALID(query.fovea);
+  const RecognitionOptions options = RadiiForModel(given, model.scale());
+  RecognitionResult result;
+  const auto t_total = Clock::now();
+  std::optional<SceneDescription> described =
+      DescribeScene(scene, query, options, parallel_for, error);
+  if (!described) return result;
+  result.stats = std::move(described->stats);
+  result.fovea = described->fovea;
 
   // 4. Nearest model descriptor of each scene descriptor.
-  t = Clock::now();
+  const auto t = Clock::now();
+  const Descriptors& scene_desc = described->descriptors;
   std::vector<std::pair<int, float>> nearest(scene_desc.size());
   parallel_for(scene_desc.size(), [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
@@ -171,33 +219,10 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
   for (std::size_t i = 0; i < nearest.size(); ++i)
     if (nearest[i].first >= 0 && nearest[i].second < options.max_descriptor_sqr_distance)
       correspondences.emplace_back(nearest[i].first, static_cast<int>(i));
-  stats.correspondences = correspondences.size();
-  for (const auto& [m, d] : correspondences)
-    result.correspondences.emplace_back(model.descriptors().keypoint[m], scene_desc.keypoint[d]);
-  stats.stage_ms.emplace_back("match", MsSince(t));
+  result.stats.stage_ms.emplace_back("match", MsSince(t));
 
-  // 5. Hough voting and pose per instance.
-  t = Clock::now();
-  result.instances = HoughGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc,
-                                scene, correspondences, options);
-  if (options.consensus_grouping)
-    result.instances =
-        MergeHypotheses(std::move(result.instances),
-                        ConsensusGroup(model.descriptors(), model.cloud(), model.centroid(),
-                                       scene_desc, scene, correspondences, options),
-                        2.0f * options.hough_bin_m);
-  stats.hypotheses = result.instances.size();
-  result.hypotheses = result.instances;
-  stats.stage_ms.emplace_back("group", MsSince(t));
-
-  // 6. Keep the hypotheses the scene confirms, refined.
-  t = Clock::now();
-  if (options.verify.enabled)
-    result.instances = VerifyInstances(
-        model.verification(), model.centroid(), scene, organized ? intrinsics : std::nullopt,
-        std::move(result.instances), options.verify, parallel_for, &result.verdicts);
-  stats.stage_ms.emplace_back("verify", MsSince(t));
-  stats.stage_ms.emplace_back("total", MsSince(t_total));
+  GroupAndVerify(model, scene, *described, correspondences, options, parallel_for, &result);
+  result.stats.stage_ms.emplace_back("total", MsSince(t_total));
   return result;
 }
 

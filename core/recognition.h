@@ -68,6 +68,28 @@ RecognitionResult Recognize(const ModelDescription& model, const Cloud& scene,
                             const ParallelFor& parallel_for = SerialFor,
                             std::string* error = nullptr);
 
+/// Recognize's stages, for a search that describes a scene once for several models
+/// (core/library.h). Recognize(model) is DescribeScene, matching against the model's index,
+/// then GroupAndVerify.
+struct SceneDescription {
+  Descriptors descriptors;                     // keypoints index the scene
+  std::optional<CameraIntrinsics> intrinsics;  // set when the scene is organized
+  std::optional<FoveaGeometry> fovea;          // set when foveated
+  RecognitionStats stats;                      // foveate, keypoints, normals, describe
+};
+/// Keypoints and descriptors of the scene where the query looks, with `options`' scene radii
+/// (already fitted to the model). nullopt with `error` when the scene has no finite point.
+std::optional<SceneDescription> DescribeScene(const Cloud& scene, const SceneQuery& query,
+                                              const RecognitionOptions& options,
+                                              const ParallelFor& parallel_for, std::string* error);
+/// Hough and consensus grouping of `correspondences` (model descriptor, scene descriptor), then
+/// verification: fills result's instances, hypotheses, verdicts, correspondences and stats.
+void GroupAndVerify(const ModelDescription& model, const Cloud& scene,
+                    const SceneDescription& described,
+                    const std::vector<std::pair<int, int>>& correspondences,
+                    const RecognitionOptions& options, const ParallelFor& parallel_for,
+                    RecognitionResult* result);
+
 /// Translation error at a point (the model centroid) and rotation angle error, between poses.
 struct PoseError {
   double translation_m = 0;

@@ -73,6 +73,11 @@ struct RecognitionOptions {
   /// Replace the radii above (keypoints, SHOT, LRF, Hough bin, pose inliers) by ones fitted to
   /// the model's size and point spacing (FitRadii), so a new object needs no hand tuning.
   bool radii_from_model = true;
+  /// Several models searched at once (core/library.h): each model's fitted SHOT radius is
+  /// rounded to the nearest 3 cm x ratio^k, so that models of similar size share one
+  /// description of each frame and one descriptor index. 1: as fitted (one description per
+  /// model). A single model is never rounded.
+  float library_radius_ratio = 1.25f;
 
   bool IsValid(std::string* error) const;
   bool operator==(const RecognitionOptions& o) const { return SameFields(*this, o); }
@@ -104,6 +109,7 @@ struct RecognitionOptions {
     a->Visit("match_checks", &match_checks);
     a->Visit("match_seed", &match_seed);
     a->Visit("radii_from_model", &radii_from_model);
+    a->Visit("library_radius_ratio", &library_radius_ratio);
     a->Visit("consensus_grouping", &consensus_grouping);
     a->Visit("consensus_min_votes", &consensus_min_votes);
     a->Visit("consensus_max_hypotheses", &consensus_max_hypotheses);

@@ -77,7 +77,8 @@ std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
     std::optional<std::vector<Cloud>> views = LoadModelViews(spec, error);
     if (!views) return std::nullopt;
     std::string why;
-    std::optional<ModelDescription> d = DescribeModel(*views, options, &why);
+    const float radius_ratio = specs.size() > 1 ? options.library_radius_ratio : 1.0f;
+    std::optional<ModelDescription> d = DescribeModel(*views, options, &why, radius_ratio);
     if (!d) {
       Fail(error, "model '" + spec + "': " + why);
       return std::nullopt;
@@ -102,6 +103,9 @@ std::shared_ptr<const RecognizeStage::Config> RecognizeStage::MakeConfig(const D
   c->predict_max_horizon_s = s.attention.predict ? s.attention.predict_max_horizon_s : 0.0f;
   c->preview = s.preview;
   c->models = std::move(models);
+  std::vector<const ModelDescription*> descriptions;
+  for (const auto& m : c->models) descriptions.push_back(&m->description);
+  c->library = std::make_shared<const Library>(std::move(descriptions), c->recognition);
   return c;
 }
 
@@ -161,17 +165,11 @@ void RecognizeStage::Process(Job* job) {
     options.max_scene_keypoints = c.tracking.recheck_max_keypoints;
   // The mask is of the models the job was planned with: a reload since then runs them all.
   const bool masked = job->models.size() == c.models.size();
-  for (std::size_t m = 0; m < c.models.size(); ++m) {
-    if (masked && !job->models[m]) continue;  // its tracks hold, none due
-    std::string error;
-    RecognitionResult r =
-        Recognize(c.models[m]->description, *frame.cloud, q, options, parallel, &error);
-    if (!error.empty()) Log(LogLevel::kDebug, "frame " + std::to_string(out.seq) + ": " + error);
-    for (Detection& d : r.instances) {
-      d.model = static_cast<int>(m);
-      out.instances.push_back(std::move(d));
-    }
-  }
+  std::string error;
+  LibraryResult r = RecognizeLibrary(*c.library, *frame.cloud, q, options,
+                                     masked ? job->models : std::vector<bool>{}, parallel, &error);
+  if (!error.empty()) Log(LogLevel::kDebug, "frame " + std::to_string(out.seq) + ": " + error);
+  out.instances = std::move(r.instances);
   // Only a search looks elsewhere: at every model's candidates, best first, or at the salient
   // regions of the saccade fallback.
   if (job->used.mode == AttentionMode::kSearching) {

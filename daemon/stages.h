@@ -7,6 +7,7 @@
 #include "attention/tracks.h"
 #include "core/candidates.h"
 #include "core/frame.h"
+#include "core/library.h"
 #include "core/recognition.h"
 #include "core/saliency.h"
 #include "daemon/latency_histogram.h"
@@ -45,6 +46,8 @@ struct StageConfig {
   float predict_max_horizon_s = 0;  // the predictor's lead (0: off)
   PreviewOptions preview;           // PREFIX_PREVIEW (off by default)
   Models models;
+  /// The models searched together (core/library.h): one description of a frame per radius.
+  std::shared_ptr<const Library> library;
 };
 
 /// One frame's trip through the stages.
@@ -70,8 +73,9 @@ struct Job {
   Fixation next;             // attention's fixation after this frame
 };
 
-/// Loads and describes each model spec (a PCD file, or synthetic:target). nullopt with one
-/// line in `error` naming the model that failed.
+/// Loads and describes each model spec (a PCD file, or synthetic:target); several are put on
+/// the library's radius grid (RecognitionOptions::library_radius_ratio). nullopt with one line
+/// in `error` naming the model that failed.
 std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
                                      const RecognitionOptions& options, std::string* error);
 

@@ -11,6 +11,7 @@
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/eval/evaluation.h"
+#include "daemon/eval/library_bench.h"
 #include "daemon/eval/overlays.h"
 #include "daemon/eval/plots.h"
 #include "daemon/eval/report.h"
@@ -138,6 +139,29 @@ void StripColour(std::vector<EvalModel>* models, std::vector<Scene>* scenes) {
   }
 }
 
+// library.csv (a row per capture and size) and library.md (the summary), into `dir`.
+int WriteLibraryReport(const fs::path& dir, const std::vector<eval::LibraryRow>& rows,
+                       std::ostream& out, std::ostream& err) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  std::string error;
+  std::ostringstream csv;
+  csv << "scene,models,instances,found,false_instances,descriptions,ms,describe_ms,match_ms,"
+         "group_ms,verify_ms,detail\n";
+  for (const eval::LibraryRow& r : rows)
+    csv << r.scene << "," << r.size << "," << r.instances << "," << r.found << ","
+        << r.false_instances << "," << r.descriptions << "," << r.ms << "," << r.describe_ms << ","
+        << r.match_ms << "," << r.group_ms << "," << r.verify_ms << "," << r.detail << "\n";
+  const std::string summary = eval::LibrarySummary(rows);
+  if (ec || !WriteBytes((dir / "library.csv").string(), csv.str(), &error) ||
+      !WriteBytes((dir / "library.md").string(), summary, &error)) {
+    err << "saccade eval: " << (ec ? dir.string() + ": " + ec.message() : error) << "\n";
+    return kExitFailure;
+  }
+  out << summary << "written to " << dir.string() << "/: library.csv library.md\n";
+  return kExitOk;
+}
+
 }  // namespace
 
 int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
@@ -167,6 +191,12 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
              "with --cases: each case's model is its model capture (case, the default), or every "
              "other capture of its object in the file, never the scene's, aligned into one "
              "model of several views (other-captures)")
+      .Value("library", "N,...|all",
+             "with --cases: instead of the protocols, search each capture the cases search for "
+             "every identity at once (libraries of N models, `all` for every identity; each "
+             "model made of the identity's other captures) with the first configuration's "
+             "recognition on the whole frame, scored against identities.csv; writes "
+             "library.csv and library.md")
       .Value("only", "NAME,...", "with --cases: run only these objects")
       .Value("every", "N", "with --cases: run every Nth case (default: 1)")
       .Value("out", "DIR", "where the tables and plots go (default: eval-out)")
@@ -259,6 +289,28 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     protocols.push_back(eval::Protocol(p[0] - 'a'));
   }
 
+  if (args.Has("library")) {
+    if (!cases) return Usage(err, "eval", "--library applies to --cases only");
+    eval::LibraryBenchOptions library;
+    for (const std::string& size : Args::ParseList(args.Get("library"))) {
+      const auto n = size == "all" ? std::optional<int>(0) : Args::ParsePositiveInt(size);
+      if (!n) return Usage(err, "eval", "--library expects sizes such as 1,5,10,all");
+      library.sizes.push_back(*n);
+    }
+    const auto every = Args::ParsePositiveInt(args.Get("every", "1"));
+    if (!every) return Usage(err, "eval", "--every expects a positive integer");
+    library.every = *every;
+    library.recognition = configs.front().config.recognition;
+    // One pass over the whole frame: every keypoint, not a window of the daemon's budget.
+    library.recognition.max_scene_keypoints = 0;
+    library.parallel = MakeTbbParallelFor();
+    library.log = &out;
+    std::vector<eval::LibraryRow> rows;
+    if (!eval::RunLibraryBench(args.Get("cases"), args.Get("data", "../shared/data"), library,
+                               &rows, &error))
+      return fail(error);
+    return WriteLibraryReport(args.Get("out", "eval-out"), rows, out, err);
+  }
   std::vector<EvalModel> models;
   std::vector<Scene> scenes;
   if (cases) {

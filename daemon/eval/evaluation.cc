@@ -354,47 +354,11 @@ bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
   }
   if (cases.empty()) return Fail(error, path + ": no cases");
   const std::map<std::string, std::string> categories = CaseCategories(path);
-  // Each capture is loaded once; cases searching the same capture share its cloud.
-  struct Capture {
-    std::shared_ptr<const Cloud> cloud;
-    std::vector<std::uint32_t> labels;
-    CameraIntrinsics intrinsics;
-  };
-  std::map<std::string, Capture> loaded;
-  const auto load = [&](const std::string& file) -> const Capture* {
-    auto it = loaded.find(file);
-    if (it == loaded.end()) {
-      auto labelled = LoadLabelledCloud(file, error);
-      if (!labelled) return nullptr;
-      Capture c;
-      if (const auto k = EstimateIntrinsics(labelled->cloud)) c.intrinsics = *k;
-      c.cloud = std::make_shared<const Cloud>(std::move(labelled->cloud));
-      c.labels = std::move(labelled->labels);
-      it = loaded.emplace(file, std::move(c)).first;
-    }
-    return &it->second;
-  };
-  // Each capture's object is cut once (other captures: every model shares them).
-  std::map<CaptureKey, Cloud> cuts;
-  const auto cut = [&](const CaptureKey& key) -> const Cloud* {
-    auto it = cuts.find(key);
-    if (it != cuts.end()) return &it->second;
-    const Capture* capture = load(key.first);
-    if (!capture) return nullptr;
-    const std::vector<int> points = MosdObjectPoints(*capture->cloud, capture->labels, key.second);
-    if (points.empty()) {
-      Fail(error, path + ": " + key.first + " has no object " + std::to_string(key.second));
-      return nullptr;
-    }
-    // Organized, the rest of the capture NaN: an alignment checks what the camera saw through.
-    Cloud organized = *capture->cloud;
-    std::vector<std::uint8_t> keep(organized.size(), 0);
-    for (int i : points) keep[std::size_t(i)] = 1;
-    const float nan = std::numeric_limits<float>::quiet_NaN();
-    for (std::size_t i = 0; i < organized.size(); ++i)
-      if (!keep[i]) organized[i].x = organized[i].y = organized[i].z = nan;
-    return &cuts.emplace(key, std::move(organized)).first->second;
-  };
+  // Each capture is loaded once, and each object cut once (other captures: every model
+  // shares them).
+  CaptureCuts captures(path);
+  const auto load = [&](const std::string& file) { return captures.Load(file, error); };
+  const auto cut = [&](const CaptureKey& key) { return captures.Cut(key, error); };
   std::optional<OtherCaptureModels> others;
   if (case_models.other_captures)
     others.emplace(all, AlignmentOptions{}, cut, case_models.parallel, case_models.log);
@@ -414,7 +378,7 @@ bool LoadCaseScenes(const std::string& path, const std::string& data_dir,
       s.category = it->second;
     else
       s.category = c.category;
-    const Capture* target = load(c.scene_file);
+    const CaptureCuts::Capture* target = load(c.scene_file);
     s.frame.cloud = target->cloud;
     s.frame.intrinsics = target->intrinsics;
     s.frame.sequence = scenes->size();

@@ -3,9 +3,12 @@
 #include "core/fail.h"
 #include "core/model.h"
 #include "core/recognition.h"
+#include "core/sim/rerender.h"
+#include "io/cloud_io.h"
 
 #include <algorithm>
 #include <iomanip>
+#include <limits>
 #include <queue>
 #include <set>
 
@@ -17,6 +20,39 @@ std::string IdentityOf(const LabelledCase& c) {
 }
 
 }  // namespace
+
+const CaptureCuts::Capture* CaptureCuts::Load(const std::string& file, std::string* error) {
+  auto it = loaded_.find(file);
+  if (it == loaded_.end()) {
+    auto labelled = LoadLabelledCloud(file, error);
+    if (!labelled) return nullptr;
+    Capture c;
+    if (const auto k = EstimateIntrinsics(labelled->cloud)) c.intrinsics = *k;
+    c.cloud = std::make_shared<const Cloud>(std::move(labelled->cloud));
+    c.labels = std::move(labelled->labels);
+    it = loaded_.emplace(file, std::move(c)).first;
+  }
+  return &it->second;
+}
+
+const Cloud* CaptureCuts::Cut(const CaptureKey& key, std::string* error) {
+  auto it = cuts_.find(key);
+  if (it != cuts_.end()) return &it->second;
+  const Capture* capture = Load(key.first, error);
+  if (!capture) return nullptr;
+  const std::vector<int> points = MosdObjectPoints(*capture->cloud, capture->labels, key.second);
+  if (points.empty()) {
+    Fail(error, context_ + ": " + key.first + " has no object " + std::to_string(key.second));
+    return nullptr;
+  }
+  Cloud organized = *capture->cloud;
+  std::vector<std::uint8_t> keep(organized.size(), 0);
+  for (int i : points) keep[std::size_t(i)] = 1;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t i = 0; i < organized.size(); ++i)
+    if (!keep[i]) organized[i].x = organized[i].y = organized[i].z = nan;
+  return &cuts_.emplace(key, std::move(organized)).first->second;
+}
 
 OtherCaptureModels::OtherCaptureModels(const std::vector<LabelledCase>& all,
                                        AlignmentOptions options, Cut cut, ParallelFor parallel,
@@ -71,6 +107,25 @@ bool OtherCaptureModels::Align(Identity* id) {
 
 std::optional<ViewsModel> OtherCaptureModels::For(const std::string& identity,
                                                   const CaptureKey& scene, std::string* error) {
+  return Build(
+      identity, scene, [&](const CaptureKey& k) { return k == scene; }, error);
+}
+
+std::optional<ViewsModel> OtherCaptureModels::ForFile(const std::string& identity,
+                                                      const std::string& file, std::string* error) {
+  return Build(
+      identity, {file, -1}, [&](const CaptureKey& k) { return k.first == file; }, error);
+}
+
+std::vector<std::string> OtherCaptureModels::Identities() const {
+  std::vector<std::string> out;
+  for (const auto& [name, id] : identities_) out.push_back(name);
+  return out;
+}
+
+std::optional<ViewsModel> OtherCaptureModels::Build(
+    const std::string& identity, const CaptureKey& scene,
+    const std::function<bool(const CaptureKey&)>& excluded, std::string* error) {
   const auto it = identities_.find(identity);
   if (it == identities_.end()) {
     Fail(error, "no capture of '" + identity + "'");
@@ -83,7 +138,7 @@ std::optional<ViewsModel> OtherCaptureModels::For(const std::string& identity,
   }
   const std::size_t n = id.captures.size();
   std::vector<bool> use(n);
-  for (std::size_t i = 0; i < n; ++i) use[i] = id.captures[i] != scene;
+  for (std::size_t i = 0; i < n; ++i) use[i] = !excluded(id.captures[i]);
   if (std::none_of(use.begin(), use.end(), [](bool u) { return u; })) {
     Fail(error, identity + ": no capture other than the scene's");
     return std::nullopt;

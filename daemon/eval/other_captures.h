@@ -4,6 +4,7 @@
 // scene showing a side that one capture missed can be found from another's.
 #pragma once
 
+#include "core/camera.h"
 #include "core/parallel.h"
 #include "core/types.h"
 #include "core/view_alignment.h"
@@ -13,6 +14,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -23,6 +25,29 @@ namespace saccade::eval {
 
 /// One object in one capture: the file and its mOSD object number.
 using CaptureKey = std::pair<std::string, int>;
+
+/// Labelled captures read once, and their objects cut once: the object's points where the
+/// capture has them, NaN elsewhere (organized: an alignment checks what the camera saw
+/// through).
+class CaptureCuts {
+ public:
+  struct Capture {
+    std::shared_ptr<const Cloud> cloud;
+    std::vector<std::uint32_t> labels;
+    CameraIntrinsics intrinsics;  // estimated from the organized cloud
+  };
+  /// `context` (the cases file) names where a missing object was asked for.
+  explicit CaptureCuts(std::string context) : context_(std::move(context)) {}
+  /// nullptr with `error` set when the file cannot be read.
+  const Capture* Load(const std::string& file, std::string* error);
+  /// nullptr with `error` set when the file cannot be read or has no such object.
+  const Cloud* Cut(const CaptureKey& key, std::string* error);
+
+ private:
+  std::string context_;
+  std::map<std::string, Capture> loaded_;
+  std::map<CaptureKey, Cloud> cuts_;
+};
 
 /// A model of several captures and what the truth says of it.
 struct ViewsModel {
@@ -48,6 +73,12 @@ class OtherCaptureModels {
   /// it can be described.
   std::optional<ViewsModel> For(const std::string& identity, const CaptureKey& scene,
                                 std::string* error);
+  /// The model of `identity` from every capture of it that is not in `file` (all of them when
+  /// none is): a library's model searching that capture.
+  std::optional<ViewsModel> ForFile(const std::string& identity, const std::string& file,
+                                    std::string* error);
+  /// The identities, by name.
+  std::vector<std::string> Identities() const;
 
  private:
   struct Identity {
@@ -56,6 +87,9 @@ class OtherCaptureModels {
     bool aligned = false;
   };
   bool Align(Identity* id);  // false when a capture cannot be cut (the cut says why)
+  std::optional<ViewsModel> Build(const std::string& identity, const CaptureKey& scene,
+                                  const std::function<bool(const CaptureKey&)>& excluded,
+                                  std::string* error);
 
   std::map<std::string, Identity> identities_;
   std::map<std::pair<CaptureKey, CaptureKey>, Eigen::Matrix4f> truth_;  // model -> scene

@@ -1,0 +1,163 @@
+#include "core/library.h"
+
+#include "core/check.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+
+namespace saccade {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Models describe a frame alike when their scene radii are the same.
+bool SameSceneRadii(const RecognitionOptions& a, const RecognitionOptions& b) {
+  return a.scene_shot_radius_m == b.scene_shot_radius_m &&
+         a.scene_lrf_radius_m == b.scene_lrf_radius_m &&
+         a.scene_keypoint_radius_m == b.scene_keypoint_radius_m;
+}
+
+}  // namespace
+
+// Models of one set of scene radii: one description of a frame, one index over all their
+// descriptors (model after model, model m's rows from first_row[m]).
+struct Library::Group {
+  RecognitionOptions options;  // the first model's fitted options: its scene radii are all's
+  std::vector<std::size_t> models;
+  std::vector<int> first_row;  // per entry of `models`, then the total
+  std::unique_ptr<ShotIndex> index;
+};
+
+Library::Library(std::vector<const ModelDescription*> models, const RecognitionOptions& options)
+    : models_(std::move(models)) {
+  for (std::size_t m = 0; m < models_.size(); ++m) {
+    const RecognitionOptions fitted = RadiiForModel(options, models_[m]->scale());
+    auto g = std::find_if(groups_.begin(), groups_.end(),
+                          [&](const Group& g) { return SameSceneRadii(g.options, fitted); });
+    if (g == groups_.end()) {
+      groups_.emplace_back();
+      g = groups_.end() - 1;
+      g->options = fitted;
+      g->first_row.push_back(0);
+    }
+    g->models.push_back(m);
+    g->first_row.push_back(g->first_row.back() + int(models_[m]->descriptors().size()));
+  }
+  for (Group& g : groups_) {
+    std::vector<float> shots;
+    shots.reserve(std::size_t(g.first_row.back()) * kShotLength);
+    for (std::size_t m : g.models) {
+      const std::vector<float>& s = models_[m]->descriptors().shot;
+      shots.insert(shots.end(), s.begin(), s.end());
+    }
+    g.index = std::make_unique<ShotIndex>(std::move(shots), options);
+  }
+}
+
+Library::~Library() = default;
+Library::Library(Library&&) noexcept = default;
+Library& Library::operator=(Library&&) noexcept = default;
+std::size_t Library::Groups() const { return groups_.size(); }
+
+bool ClaimSamePlace(const Detection& a, float size_a, const Detection& b, float size_b) {
+  return (a.centroid_m - b.centroid_m).norm() < 0.5f * std::min(size_a, size_b);
+}
+
+LibraryResult RecognizeLibrary(const Library& library, const Cloud& scene, const SceneQuery& query,
+                               const RecognitionOptions& given, const std::vector<bool>& which,
+                               const ParallelFor& parallel_for, std::string* error) {
+  SACCADE_CHECK_VALID(given);
+  SACCADE_CHECK_VALID(query.fovea);
+  LibraryResult out;
+  out.per_model.resize(library.size());
+  const auto wanted = [&](std::size_t m) { return which.empty() || which[m]; };
+  for (const Library::Group& g : library.groups_) {
+    if (std::none_of(g.models.begin(), g.models.end(), wanted)) continue;
+    const auto t_total = Clock::now();
+    std::optional<SceneDescription> described =
+        DescribeScene(scene, query, g.options, parallel_for, error);
+    if (!described) return out;
+    ++out.scene_descriptions;
+    for (const auto& [stage, ms] : described->stats.stage_ms) out.describe_ms += ms;
+
+    // Each scene descriptor's nearest descriptor of any of the group's models.
+    auto t = Clock::now();
+    const Descriptors& scene_desc = described->descriptors;
+    const float max_d2 = g.options.max_descriptor_sqr_distance;
+    const int k_nearest =
+        std::getenv("SACCADE_LIB_K") ? std::atoi(std::getenv("SACCADE_LIB_K")) : 1;
+    std::vector<std::vector<std::pair<int, float>>> nearest(scene_desc.size());
+    parallel_for(scene_desc.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        nearest[i] = g.index->NearestK(scene_desc.Row(i), k_nearest, max_d2);
+    });
+    std::vector<std::vector<std::pair<int, int>>> correspondences(g.models.size());
+    for (std::size_t i = 0; i < nearest.size(); ++i) {
+      std::vector<bool> taken(g.models.size(), false);
+      for (const auto& [row, d2] : nearest[i]) {
+        const std::size_t k =
+            std::size_t(std::upper_bound(g.first_row.begin(), g.first_row.end(), row) -
+                        g.first_row.begin() - 1);
+        if (taken[k]) continue;  // a model's nearest only
+        taken[k] = true;
+        correspondences[k].emplace_back(row - g.first_row[k], static_cast<int>(i));
+      }
+    }
+    const double ms_match = MsSince(t);
+    out.match_ms += ms_match;
+
+    // Each model groups and verifies its own matches, models side by side.
+    parallel_for(g.models.size(), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        const std::size_t m = g.models[k];
+        if (!wanted(m)) continue;
+        const ModelDescription& model = library.model(m);
+        RecognitionResult& r = out.per_model[m];
+        r.stats = described->stats;
+        r.fovea = described->fovea;
+        r.stats.stage_ms.emplace_back("match", ms_match);
+        GroupAndVerify(model, scene, *described, correspondences[k],
+                       RadiiForModel(given, model.scale()), parallel_for, &r);
+        r.stats.stage_ms.emplace_back("total", MsSince(t_total));
+        for (Detection& d : r.instances) d.model = static_cast<int>(m);
+      }
+    });
+    for (std::size_t m : g.models)
+      for (const auto& [stage, ms] : out.per_model[m].stats.stage_ms) {
+        if (stage == "group") out.group_ms += ms;
+        if (stage == "verify") out.verify_ms += ms;
+      }
+  }
+
+  // One model per place: the most confident (verified) or most voted instance first. A single
+  // model's instances keep Recognize's order.
+  std::vector<Detection> all;
+  std::size_t found = 0;
+  for (const RecognitionResult& r : out.per_model) {
+    all.insert(all.end(), r.instances.begin(), r.instances.end());
+    found += r.instances.empty() ? 0 : 1;
+  }
+  if (found <= 1) {
+    out.instances = std::move(all);
+    return out;
+  }
+  std::stable_sort(all.begin(), all.end(), [](const Detection& a, const Detection& b) {
+    return a.confidence != b.confidence ? a.confidence > b.confidence : a.votes > b.votes;
+  });
+  for (Detection& d : all) {
+    const float size = library.model(std::size_t(d.model)).scale().size_m;
+    const bool taken = std::any_of(out.instances.begin(), out.instances.end(), [&](const auto& o) {
+      return o.model != d.model &&
+             ClaimSamePlace(d, size, o, library.model(std::size_t(o.model)).scale().size_m);
+    });
+    if (!taken) out.instances.push_back(std::move(d));
+  }
+  return out;
+}
+
+}  // namespace saccade

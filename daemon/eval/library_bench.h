@@ -1,0 +1,49 @@
+// The library benchmark (saccade eval --cases CASES.yaml --library 1,5,10,all): every
+// identity of a cases file as one model of its other captures (never the searched capture's),
+// searched together in each capture the cases search, on the whole frame: which of the objects
+// are there, and where. Scored against every labelled instance of identities.csv beside the
+// cases file; timed per library size.
+#pragma once
+
+#include "core/parallel.h"
+#include "core/recognition_options.h"
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace saccade::eval {
+
+struct LibraryBenchOptions {
+  std::vector<int> sizes;  // library sizes to run; 0: every identity
+  RecognitionOptions recognition;
+  float tolerance_m = 0.08f;  // the benchmark's 8 cm rule
+  int every = 1;              // search every Nth capture (in file order)
+  ParallelFor parallel = SerialFor;
+  std::ostream* log = nullptr;  // progress, one line per capture
+};
+
+/// One capture searched with one library.
+struct LibraryRow {
+  std::string scene;
+  int size = 0;             // models searched
+  int instances = 0;        // sure labelled instances of the library's identities
+  int found = 0;            // of those, found by their own model within the tolerance
+  int false_instances = 0;  // instances reported nowhere near one of their identity
+  double ms = 0;            // the library search (describing the frame, matching, grouping)
+  int descriptions = 0;     // descriptions of the frame it made (radii)
+  double describe_ms = 0, match_ms = 0, group_ms = 0, verify_ms = 0;  // LibraryResult's
+  std::string detail;  // "identity:found|missed|false ..." for the record
+};
+
+/// Runs every size over every capture the cases search. False with `error` when a file
+/// cannot be read.
+bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
+                     const LibraryBenchOptions& options, std::vector<LibraryRow>* rows,
+                     std::string* error);
+
+/// Recall with its interval, false instances per capture, median ms and its ratio to the
+/// smallest library's, per size: a Markdown table.
+std::string LibrarySummary(const std::vector<LibraryRow>& rows);
+
+}  // namespace saccade::eval
