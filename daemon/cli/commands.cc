@@ -6,6 +6,7 @@
 #include "core/recognition.h"
 #include "core/sim/scenario.h"
 #include "daemon/args.h"
+#include "daemon/cli/recognize_library.h"
 #include "daemon/eval/overlays.h"
 #include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"
@@ -41,8 +42,9 @@ int Usage(std::ostream& err, const std::string& command, const std::string& mess
 namespace {
 
 // Loads --config, --model and --scene; prints one line and returns the exit code on failure.
+// With `with_model` false, the scene alone (several models are read by their own command).
 std::optional<int> LoadInputs(const Args& args, const std::string& command, Inputs* in,
-                              std::ostream& err) {
+                              std::ostream& err, bool with_model = true) {
   std::string error;
   if (args.Has("config") && !LoadRecognitionConfig(args.Get("config"), &in->config, &error)) {
     err << "saccade " << command << ": " << error << "\n";
@@ -50,6 +52,7 @@ std::optional<int> LoadInputs(const Args& args, const std::string& command, Inpu
   }
   for (const char* name : {"model", "scene"}) {
     if (!args.Has(name)) return Usage(err, command, std::string("missing --") + name);
+    if (!with_model && std::string(name) == "model") continue;
     // The model is read once, as its views (one for a captured model).
     std::optional<Cloud> cloud;
     if (std::string(name) == "model") {
@@ -174,7 +177,9 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
   Args args("saccade recognize",
             "Finds the model in one scene and prints each instance's pose (camera frame, "
             "metres), its centroid and its votes.");
-  args.Value("model", "M.pcd", "the object's model: a PCD cloud in metres (required)")
+  args.Value("model", "M.pcd[,N.pcd...]",
+             "the object's model: a PCD cloud in metres (required); several, comma-separated, "
+             "are searched at once as a library and each instance names its model")
       .Value("scene", "S.pcd", "the scene: an organized or unorganized PCD cloud (required)")
       .Value("fovea", "x,y,z",
              "the fixation point, in metres in the camera frame (required "
@@ -219,7 +224,16 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
     if (!t) return Usage(err, "recognize", "--threads expects a positive integer");
     threads = *t;
   }
+  const std::vector<std::string> specs = Args::ParseList(args.Get("model"));
   Inputs in;
+  if (specs.size() > 1) {
+    if (args.Has("render"))
+      return Usage(err, "recognize", "--render draws one model: give one --model");
+    if (auto code = LoadInputs(args, "recognize", &in, err, false)) return *code;
+    query.fovea = in.config.fovea;
+    return RecognizeLibraryCommand(specs, in.scene, query, in.config.recognition,
+                                   MakeTbbParallelFor(threads), args.Has("json"), out, err);
+  }
   if (auto code = LoadInputs(args, "recognize", &in, err)) return *code;
   query.fovea = in.config.fovea;
   auto model = DescribeModel(in.model_views, in.config.recognition, &error);

@@ -197,6 +197,9 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
              "model made of the identity's other captures) with the first configuration's "
              "recognition on the whole frame, scored against identities.csv; writes "
              "library.csv and library.md")
+      .Switch("separately",
+              "with --library: the baseline, each model recognized on its own as before the "
+              "library (radii as fitted, one description of the frame and one index each)")
       .Value("only", "NAME,...", "with --cases: run only these objects")
       .Value("every", "N", "with --cases: run every Nth case (default: 1)")
       .Value("out", "DIR", "where the tables and plots go (default: eval-out)")
@@ -300,6 +303,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     const auto every = Args::ParsePositiveInt(args.Get("every", "1"));
     if (!every) return Usage(err, "eval", "--every expects a positive integer");
     library.every = *every;
+    library.separately = args.Has("separately");
     library.recognition = configs.front().config.recognition;
     // One pass over the whole frame: every keypoint, not a window of the daemon's budget.
     library.recognition.max_scene_keypoints = 0;

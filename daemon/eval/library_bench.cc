@@ -103,8 +103,9 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
   const auto describe = [&](const std::string& identity,
                             ViewsModel views) -> std::unique_ptr<LibraryModel> {
     std::string why;
-    std::optional<ModelDescription> d = DescribeModel(views.views, options.recognition, &why,
-                                                      options.recognition.library_radius_ratio);
+    std::optional<ModelDescription> d =
+        DescribeModel(views.views, options.recognition, &why,
+                      options.separately ? 1.0f : options.recognition.library_radius_ratio);
     if (!d) {
       Fail(error, identity + ": " + why);
       return nullptr;
@@ -173,8 +174,21 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
       query.intrinsics = capture->intrinsics;
       const auto t0 = std::chrono::steady_clock::now();
       std::string why;
-      const LibraryResult result = RecognizeLibrary(
-          library, *capture->cloud, query, options.recognition, {}, options.parallel, &why);
+      LibraryResult result;
+      if (options.separately) {  // as saccaded searched several models before the library
+        for (std::size_t m = 0; m < descriptions.size(); ++m) {
+          RecognitionResult r = Recognize(*descriptions[m], *capture->cloud, query,
+                                          options.recognition, options.parallel, &why);
+          for (Detection& d : r.instances) {
+            d.model = int(m);
+            result.instances.push_back(std::move(d));
+          }
+          ++result.scene_descriptions;
+        }
+      } else {
+        result = RecognizeLibrary(library, *capture->cloud, query, options.recognition, {},
+                                  options.parallel, &why);
+      }
       LibraryRow row;
       row.ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -197,11 +211,14 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
           if (!claimed[t] && truth[t].identity == m.identity && distance <= best_distance)
             best = t, best_distance = distance;
         }
+        char confidence[16];
+        std::snprintf(confidence, sizeof confidence, ":%.3f ", double(d.confidence));
         if (best < truth.size()) {
           claimed[best] = true;
+          detail << m.identity << ":true" << confidence;
         } else {
           ++row.false_instances;
-          detail << m.identity << ":false ";
+          detail << m.identity << ":false" << confidence;
         }
       }
       for (std::size_t t = 0; t < truth.size(); ++t) {
@@ -210,7 +227,7 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
         if (!truth[t].sure || !searched) continue;
         ++row.instances;
         row.found += claimed[t];
-        detail << truth[t].identity << (claimed[t] ? ":found " : ":missed ");
+        if (!claimed[t]) detail << truth[t].identity << ":missed ";
       }
       row.detail = detail.str();
       if (!row.detail.empty()) row.detail.pop_back();

@@ -19,6 +19,9 @@ struct LibraryBenchOptions {
   RecognitionOptions recognition;
   float tolerance_m = 0.08f;  // the benchmark's 8 cm rule
   int every = 1;              // search every Nth capture (in file order)
+  /// The baseline: each model described as fitted and recognized on its own (a description
+  /// of the frame and an index per model), instances side by side, as before the library.
+  bool separately = false;
   ParallelFor parallel = SerialFor;
   std::ostream* log = nullptr;  // progress, one line per capture
 };

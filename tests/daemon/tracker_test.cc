@@ -243,6 +243,37 @@ TEST(Tracker, AFloodOfModelSwitchesDescribesOnlyTheLast) {
   EXPECT_LE(rig.bus->AcceptedCommands(), 2);
 }
 
+// Two models searched as one library (core/library.h): every frame names both, the target is
+// found by its own model at its true place, and no instance of the other model claims it.
+TEST(Tracker, TwoModelsAreSearchedAsOneLibraryAndEachInstanceNamesItsModel) {
+  DaemonSettings s = DemoSettings();
+  s.models = {"synthetic:target", "synthetic:ball"};
+  Rig rig(s);
+  ASSERT_TRUE(rig.tracker);
+  while (rig.Step()) {
+  }
+  const auto published = rig.bus->Frames();
+  ASSERT_EQ(published.size(), 6u);
+  bool target_found = false;
+  for (std::size_t i = 0; i < published.size(); ++i) {
+    const FrameDetections& frame = published[i].frame;
+    ASSERT_EQ(frame.models, (std::vector<std::string>{"synthetic:target", "synthetic:ball"}));
+    ASSERT_TRUE(rig.truths[i]);
+    const Eigen::Isometry3f& truth = rig.truths[i]->target_pose;
+    for (const Detection& d : frame.instances) {
+      ASSERT_TRUE(d.model == 0 || d.model == 1);
+      // The target's model centroid where the true pose puts it (its models are cut in its frame).
+      const Eigen::Vector3f in_model = Eigen::Isometry3f(d.model_to_scene).inverse() * d.centroid_m;
+      if (d.model == 0 && (d.centroid_m - truth * in_model).norm() < 0.02f) target_found = true;
+      if (d.model == 1) {
+        EXPECT_GT((d.centroid_m - truth.translation()).norm(), 0.08f)
+            << "frame " << i << ": the ball's model on the target";
+      }
+    }
+  }
+  EXPECT_TRUE(target_found);
+}
+
 }  // namespace
 }  // namespace saccade
 
