@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 
 namespace saccade {
 namespace {
@@ -89,24 +88,18 @@ LibraryResult RecognizeLibrary(const Library& library, const Cloud& scene, const
     auto t = Clock::now();
     const Descriptors& scene_desc = described->descriptors;
     const float max_d2 = g.options.max_descriptor_sqr_distance;
-    const int k_nearest =
-        std::getenv("SACCADE_LIB_K") ? std::atoi(std::getenv("SACCADE_LIB_K")) : 1;
-    std::vector<std::vector<std::pair<int, float>>> nearest(scene_desc.size());
+    std::vector<std::pair<int, float>> nearest(scene_desc.size());
     parallel_for(scene_desc.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i)
-        nearest[i] = g.index->NearestK(scene_desc.Row(i), k_nearest, max_d2);
+        nearest[i] = g.index->Nearest(scene_desc.Row(i), max_d2);
     });
     std::vector<std::vector<std::pair<int, int>>> correspondences(g.models.size());
     for (std::size_t i = 0; i < nearest.size(); ++i) {
-      std::vector<bool> taken(g.models.size(), false);
-      for (const auto& [row, d2] : nearest[i]) {
-        const std::size_t k =
-            std::size_t(std::upper_bound(g.first_row.begin(), g.first_row.end(), row) -
-                        g.first_row.begin() - 1);
-        if (taken[k]) continue;  // a model's nearest only
-        taken[k] = true;
-        correspondences[k].emplace_back(row - g.first_row[k], static_cast<int>(i));
-      }
+      const auto [row, d2] = nearest[i];
+      if (row < 0 || !(d2 < max_d2)) continue;
+      const std::size_t k = std::size_t(
+          std::upper_bound(g.first_row.begin(), g.first_row.end(), row) - g.first_row.begin() - 1);
+      correspondences[k].emplace_back(row - g.first_row[k], static_cast<int>(i));
     }
     const double ms_match = MsSince(t);
     out.match_ms += ms_match;

@@ -136,20 +136,6 @@ std::pair<int, float> ShotIndex::Nearest(const float* shot, float max_sqr_distan
   return {result.index(), result.sqr_distance()};
 }
 
-std::vector<std::pair<int, float>> ShotIndex::NearestK(const float* shot, int k,
-                                                       float max_sqr_distance) const {
-  std::vector<std::size_t> indices(std::size_t(k), 0);
-  std::vector<float> distances(std::size_t(k), std::numeric_limits<float>::infinity());
-  flann::KNNResultSet2<float> result{std::size_t(k)};
-  impl_->kmeans->findNeighbors(result, shot, flann::SearchParams(impl_->checks));
-  const std::size_t found = std::min<std::size_t>(result.size(), std::size_t(k));
-  result.copy(indices.data(), distances.data(), found, true);
-  std::vector<std::pair<int, float>> out;
-  for (std::size_t i = 0; i < found; ++i)
-    if (distances[i] < max_sqr_distance) out.emplace_back(int(indices[i]), distances[i]);
-  return out;
-}
-
 ModelDescription::~ModelDescription() = default;
 ModelDescription::ModelDescription(ModelDescription&&) noexcept = default;
 ModelDescription& ModelDescription::operator=(ModelDescription&&) noexcept = default;

@@ -59,9 +59,6 @@ class ShotIndex {
   /// and squared distance. The bound prunes the search.
   std::pair<int, float> Nearest(
       const float* shot, float max_sqr_distance = std::numeric_limits<float>::infinity()) const;
-  /// The k nearest rows within sqrt(max_sqr_distance), nearest first (fewer when fewer are).
-  std::vector<std::pair<int, float>> NearestK(const float* shot, int k,
-                                              float max_sqr_distance) const;
 
  private:
   struct Impl;
