@@ -102,11 +102,15 @@ std::shared_ptr<const RecognizeStage::Config> RecognizeStage::MakeConfig(const D
   c->candidates = s.candidates;
   c->predict_max_horizon_s = s.attention.predict ? s.attention.predict_max_horizon_s : 0.0f;
   c->preview = s.preview;
+  SetModels(c.get(), std::move(models));
+  return c;
+}
+
+void RecognizeStage::SetModels(Config* c, Models models) {
   c->models = std::move(models);
   std::vector<const ModelDescription*> descriptions;
   for (const auto& m : c->models) descriptions.push_back(&m->description);
   c->library = std::make_shared<const Library>(std::move(descriptions), c->recognition);
-  return c;
 }
 
 std::shared_ptr<const RecognizeStage::Config> RecognizeStage::config() const {

@@ -47,6 +47,7 @@ struct StageConfig {
   PreviewOptions preview;           // PREFIX_PREVIEW (off by default)
   Models models;
   /// The models searched together (core/library.h): one description of a frame per radius.
+  /// It points into `models`: set both with RecognizeStage::SetModels.
   std::shared_ptr<const Library> library;
 };
 
@@ -85,6 +86,9 @@ class RecognizeStage {
  public:
   using Config = StageConfig;
   static std::shared_ptr<const Config> MakeConfig(const DaemonSettings& settings, Models models);
+  /// Replaces c's models and the library over them (the library points into the models: they
+  /// change together, never one alone).
+  static void SetModels(Config* c, Models models);
 
   explicit RecognizeStage(std::shared_ptr<const Config> config) : config_(std::move(config)) {}
   std::shared_ptr<const Config> config() const;

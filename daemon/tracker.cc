@@ -162,7 +162,7 @@ void Tracker::Impl::SwitchModel(const std::string& spec, const CommandReply& rep
   std::optional<Models> models = DescribeModels({spec}, old->recognition, &why);
   if (!models) return reply(false, why);
   auto next = std::make_shared<RecognizeStage::Config>(*old);
-  next->models = std::move(*models);
+  RecognizeStage::SetModels(next.get(), std::move(*models));
   recognize.SetConfig(std::move(next));
   model_specs = {spec};
   Command reset;  // the old model's targets mean nothing to the new one
