@@ -139,20 +139,7 @@ void PrintResult(const RecognitionResult& r, const ModelDescription& model,
       << " m; radii" << (options.radii_from_model ? " (fitted to the model)" : "") << ":";
   for (const auto& [key, value] : RadiiUsed(model, options)) out << " " << key << " " << value;
   out << "\n" << r.instances.size() << " instance(s)\n";
-  for (std::size_t i = 0; i < r.instances.size(); ++i) {
-    const Detection& d = r.instances[i];
-    out << "instance " << i << ": votes " << d.votes << ", centroid (" << d.centroid_m.x() << ", "
-        << d.centroid_m.y() << ", " << d.centroid_m.z() << ") m";
-    if (d.fitness >= 0) out << ", fitness " << d.fitness << ", coverage " << d.coverage;
-    if (d.colour_agreement >= 0) out << ", colour " << d.colour_agreement;
-    if (d.confidence >= 0) out << ", confidence " << d.confidence;
-    out << ", pose model->scene:\n";
-    for (int row = 0; row < 4; ++row) {
-      out << "  ";
-      for (int c = 0; c < 4; ++c) out << std::setw(10) << d.model_to_scene(row, c);
-      out << "\n";
-    }
-  }
+  for (std::size_t i = 0; i < r.instances.size(); ++i) PrintInstance(i, r.instances[i], "", out);
   out << "level  points  keypoints\n";
   for (std::size_t k = 0; k < r.stats.level_points.size(); ++k)
     out << std::setw(5) << k << std::setw(8) << r.stats.level_points[k] << std::setw(11)

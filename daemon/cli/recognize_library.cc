@@ -15,6 +15,22 @@
 
 namespace saccade {
 
+void PrintInstance(std::size_t index, const Detection& d, const std::string& model_name,
+                   std::ostream& out) {
+  out << "instance " << index << ": " << (model_name.empty() ? "" : model_name + ", ") << "votes "
+      << d.votes << ", centroid (" << d.centroid_m.x() << ", " << d.centroid_m.y() << ", "
+      << d.centroid_m.z() << ") m";
+  if (d.fitness >= 0) out << ", fitness " << d.fitness << ", coverage " << d.coverage;
+  if (d.colour_agreement >= 0) out << ", colour " << d.colour_agreement;
+  if (d.confidence >= 0) out << ", confidence " << d.confidence;
+  out << ", pose model->scene:\n";
+  for (int row = 0; row < 4; ++row) {
+    out << "  ";
+    for (int c = 0; c < 4; ++c) out << std::setw(10) << d.model_to_scene(row, c);
+    out << "\n";
+  }
+}
+
 int RecognizeLibraryCommand(const std::vector<std::string>& specs, const Cloud& scene,
                             const SceneQuery& query, const RecognitionOptions& options,
                             const ParallelFor& parallel, bool json, std::ostream& out,
@@ -73,17 +89,7 @@ int RecognizeLibraryCommand(const std::vector<std::string>& specs, const Cloud& 
       << r.scene_descriptions << " description(s) of the scene\n"
       << r.instances.size() << " instance(s)\n";
   for (std::size_t i = 0; i < r.instances.size(); ++i) {
-    const Detection& d = r.instances[i];
-    out << "instance " << i << ": " << names[std::size_t(d.model)] << ", votes " << d.votes
-        << ", centroid (" << d.centroid_m.x() << ", " << d.centroid_m.y() << ", "
-        << d.centroid_m.z() << ") m";
-    if (d.confidence >= 0) out << ", confidence " << d.confidence;
-    out << ", pose model->scene:\n";
-    for (int row = 0; row < 4; ++row) {
-      out << "  ";
-      for (int c = 0; c < 4; ++c) out << std::setw(10) << d.model_to_scene(row, c);
-      out << "\n";
-    }
+    PrintInstance(i, r.instances[i], names[std::size_t(r.instances[i].model)], out);
   }
   out << std::setprecision(2) << "timing ms: describe " << r.describe_ms << " match " << r.match_ms
       << " group " << r.group_ms << " verify " << r.verify_ms << "\n";

@@ -10,6 +10,11 @@
 
 namespace saccade {
 
+/// One instance as `recognize` prints it: "instance I: [MODEL, ]votes ..., centroid (...) m,
+/// ...confidence C, pose model->scene:" and the 4x4 pose, one row a line.
+void PrintInstance(std::size_t index, const Detection& d, const std::string& model_name,
+                   std::ostream& out);
+
 /// Describes each model spec on the library's radius grid, searches the scene for all of them
 /// at once and prints every instance with its model's name (the file's stem), as text or one
 /// JSON object. Returns the exit code; one line on `err` when a model cannot be read.
