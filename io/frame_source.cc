@@ -393,20 +393,39 @@ std::unique_ptr<FrameSource> OpenFiles(const SourceSpec& spec, std::string* erro
     Fail(error, "source 'pcd:" + spec.target + "': option 'intrinsics' is for depth: sources");
     return nullptr;
   }
-  if (!IsDirectory(spec.target)) {
-    Fail(error, spec.target + ": no such folder (source '" + spec.kind + ":" + spec.target + "')");
+  // pcd: one PCD file is a sequence of one frame (loop=1 repeats it), a folder its files.
+  std::error_code ec;
+  const bool one_file = spec.kind == "pcd" && fs::is_regular_file(spec.target, ec) &&
+                        EndsWith(fs::path(spec.target).filename().string(), ".pcd");
+  if (!one_file && !IsDirectory(spec.target)) {
+    Fail(error, spec.target +
+                    (spec.kind == "pcd" ? ": no such folder or .pcd file" : ": no such folder") +
+                    " (source '" + spec.kind + ":" + spec.target + "')");
     return nullptr;
   }
-  std::vector<std::string> files =
-      spec.kind == "pcd" ? ListPcdFiles(spec.target) : ListDepthImages(spec.target);
+  std::vector<std::string> files = one_file             ? std::vector<std::string>{spec.target}
+                                   : spec.kind == "pcd" ? ListPcdFiles(spec.target)
+                                                        : ListDepthImages(spec.target);
   if (files.empty()) {
     Fail(error, spec.target + (spec.kind == "pcd"
                                    ? ": no .pcd file in the folder"
                                    : ": no depth image (PNG or TIFF named *depth*) in the folder"));
     return nullptr;
   }
-  auto truth = TruthBeside(spec.target, files.size(), error);
+  // One file takes its row of the recording's truth, when it is one of a recording's files.
+  const fs::path parent = fs::path(spec.target).parent_path();
+  const std::string truth_dir = one_file ? (parent.empty() ? "." : parent.string()) : spec.target;
+  const std::vector<std::string> siblings = one_file ? ListPcdFiles(truth_dir) : files;
+  auto truth = TruthBeside(truth_dir, siblings.size(), error);
   if (!truth) return nullptr;
+  if (one_file) {
+    const auto at = std::find_if(siblings.begin(), siblings.end(), [&](const std::string& f) {
+      return fs::equivalent(f, spec.target, ec);
+    });
+    const std::optional<GroundTruth> row =
+        at != siblings.end() ? (*truth)[std::size_t(at - siblings.begin())] : std::nullopt;
+    truth->assign(1, row);
+  }
   std::unique_ptr<Sequence> sequence;
   if (spec.kind == "pcd") {
     sequence = std::make_unique<PcdSequence>("pcd", spec.target, std::move(files),

@@ -290,6 +290,35 @@ TEST(FileSources, UnusableFramesAreSkippedAndCountedAndAFolderOfNoneIsAnError) {
   EXPECT_EQ(error.find('\n'), std::string::npos) << error;
 }
 
+// pcd: takes one PCD file as well as a folder: a sequence of one frame, repeated with loop=1.
+TEST(FileSources, APcdSourceTakesASingleFile) {
+  const auto original = Open("synthetic:static?rate=0&frames=2");
+  const std::string dir = FreshDir("single");
+  std::string error;
+  auto writer = FrameWriter::Open(dir, FrameWriter::Format::kPcd, &error);
+  ASSERT_TRUE(writer) << error;
+  for (const auto& f : original) ASSERT_TRUE(writer->Write(f, &error)) << error;
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".pcd") files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  ASSERT_EQ(files.size(), 2u);
+  for (const bool loop : {false, true}) {
+    auto source = OpenSource("pcd:" + files[1] + (loop ? "?loop=1" : ""), &error);
+    ASSERT_TRUE(source) << error;
+    std::vector<Frame> back;
+    Frame f;
+    while (back.size() < 3u && source->Next(&f, &error) == FrameSource::Status::kFrame)
+      back.push_back(f);
+    ASSERT_EQ(back.size(), loop ? 3u : 1u) << error;
+    for (const Frame& b : back) ExpectSameFrames({original[1]}, {b}, 0.0f);
+  }
+  // A file that is not a PCD is neither a folder nor a recording.
+  std::ofstream(dir + "/notes.txt") << "x";
+  EXPECT_FALSE(OpenSource("pcd:" + dir + "/notes.txt", &error));
+  EXPECT_NE(error.find("notes.txt: no such folder or .pcd file"), std::string::npos) << error;
+}
+
 TEST(FileSources, ACorruptFileAloneInASequenceIsAnErrorNamingIt) {
   const std::string dir = FreshDir("corrupt");
   fs::create_directories(dir);
