@@ -78,16 +78,19 @@ LibraryResult RecognizeLibrary(const Library& library, const Cloud& scene, const
   for (const Library::Group& g : library.groups_) {
     if (std::none_of(g.models.begin(), g.models.end(), wanted)) continue;
     const auto t_total = Clock::now();
+    // The options this search was given (a re-check's smaller keypoint budget, say), with the
+    // group's radii: its models' radii are one.
+    const RecognitionOptions options = RadiiForModel(given, library.model(g.models[0]).scale());
     std::optional<SceneDescription> described =
-        DescribeScene(scene, query, g.options, parallel_for, error);
-    if (!described) return out;
+        DescribeScene(scene, query, options, parallel_for, error);
+    if (!described) break;  // the scene has no finite point: the same for every group
     ++out.scene_descriptions;
     for (const auto& [stage, ms] : described->stats.stage_ms) out.describe_ms += ms;
 
     // Each scene descriptor's nearest descriptor of any of the group's models.
     auto t = Clock::now();
     const Descriptors& scene_desc = described->descriptors;
-    const float max_d2 = g.options.max_descriptor_sqr_distance;
+    const float max_d2 = options.max_descriptor_sqr_distance;
     std::vector<std::pair<int, float>> nearest(scene_desc.size());
     parallel_for(scene_desc.size(), [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i)

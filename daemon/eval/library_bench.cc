@@ -139,7 +139,11 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
     this_capture.clear();
     const CaptureCuts::Capture* capture = captures.Load(scene, error);
     if (!capture) return false;
-    std::vector<Labelled> truth = labelled[Normal(scene)];
+    const auto labels = labelled.find(Normal(scene));
+    if (labels == labelled.end())
+      return Fail(error, scene + ": not in identities.csv beside " + cases_path +
+                             " (the library benchmark scores against its labels)");
+    std::vector<Labelled> truth = labels->second;
     for (Labelled& l : truth) {
       const Cloud* cut = captures.Cut({scene, l.object}, error);
       if (!cut) return false;

@@ -86,20 +86,26 @@ TEST(Library, FindsEachObjectAtItsPoseAndNamesItsModel) {
 }
 
 TEST(Library, OfOneModelFindsWhatRecognizeFinds) {
+  // With the options the search is given: the defaults, and a re-check's small keypoint budget.
   const Fixture f;
   const Library library({&f.post}, RecognitionOptions{});
-  const LibraryResult r =
-      RecognizeLibrary(library, f.scene.cloud, WholeFrame(), RecognitionOptions{}, {});
-  const RecognitionResult alone =
-      Recognize(f.post, f.scene.cloud, WholeFrame(), RecognitionOptions{});
-  ASSERT_EQ(r.instances.size(), alone.instances.size());
-  ASSERT_FALSE(alone.instances.empty());
-  for (std::size_t i = 0; i < alone.instances.size(); ++i) {
-    EXPECT_TRUE(r.instances[i].model_to_scene.isApprox(alone.instances[i].model_to_scene))
-        << "instance " << i;
-    EXPECT_EQ(r.instances[i].votes, alone.instances[i].votes);
+  RecognitionOptions budget;
+  budget.max_scene_keypoints = 150;
+  for (const RecognitionOptions& options : {RecognitionOptions{}, budget}) {
+    const LibraryResult r = RecognizeLibrary(library, f.scene.cloud, WholeFrame(), options, {});
+    const RecognitionResult alone = Recognize(f.post, f.scene.cloud, WholeFrame(), options);
+    ASSERT_EQ(r.per_model[0].stats.TotalKeypoints(), alone.stats.TotalKeypoints());
+    EXPECT_EQ(r.per_model[0].stats.budgeted_out, alone.stats.budgeted_out);
+    ASSERT_EQ(r.instances.size(), alone.instances.size());
+    for (std::size_t i = 0; i < alone.instances.size(); ++i) {
+      EXPECT_TRUE(r.instances[i].model_to_scene.isApprox(alone.instances[i].model_to_scene))
+          << "instance " << i;
+      EXPECT_EQ(r.instances[i].votes, alone.instances[i].votes);
+    }
+    EXPECT_EQ(r.scene_descriptions, 1u);
   }
-  EXPECT_EQ(r.scene_descriptions, 1u);
+  EXPECT_FALSE(
+      Recognize(f.post, f.scene.cloud, WholeFrame(), RecognitionOptions{}).instances.empty());
 }
 
 TEST(Library, ModelsOfOneSizeShareOneDescriptionOfTheFrame) {
