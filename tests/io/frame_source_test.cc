@@ -245,6 +245,24 @@ TEST(FileSources, DepthAndPcdRecordingsReadBackWithTheirTruth) {
   }
 }
 
+// Writes the frames as a PCD recording into `dir`; its .pcd files in name order.
+std::vector<std::string> WritePcdRecording(const std::vector<Frame>& frames,
+                                           const std::string& dir) {
+  std::string error;
+  auto writer = FrameWriter::Open(dir, FrameWriter::Format::kPcd, &error);
+  EXPECT_TRUE(writer) << error;
+  for (const auto& f : frames) {
+    if (writer) {
+      EXPECT_TRUE(writer->Write(f, &error)) << error;
+    }
+  }
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".pcd") files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
 // A recording with a corrupt and a truncated file: those frames are skipped and counted (their
 // sequence numbers unused), the others read with their own truth; a folder where no frame is
 // usable is one error, not a loop without end.
@@ -252,13 +270,7 @@ TEST(FileSources, UnusableFramesAreSkippedAndCountedAndAFolderOfNoneIsAnError) {
   const auto original = Open("synthetic:circular?rate=0&frames=4");
   const std::string dir = FreshDir("unusable");
   std::string error;
-  auto writer = FrameWriter::Open(dir, FrameWriter::Format::kPcd, &error);
-  ASSERT_TRUE(writer) << error;
-  for (const auto& f : original) ASSERT_TRUE(writer->Write(f, &error)) << error;
-  std::vector<std::string> files;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.path().extension() == ".pcd") files.push_back(e.path().string());
-  std::sort(files.begin(), files.end());
+  const std::vector<std::string> files = WritePcdRecording(original, dir);
   ASSERT_EQ(files.size(), 4u);
   std::ofstream(files[1], std::ios::trunc) << "garbage";
   fs::resize_file(files[3], fs::file_size(files[3]) / 2);
@@ -295,13 +307,7 @@ TEST(FileSources, APcdSourceTakesASingleFile) {
   const auto original = Open("synthetic:static?rate=0&frames=2");
   const std::string dir = FreshDir("single");
   std::string error;
-  auto writer = FrameWriter::Open(dir, FrameWriter::Format::kPcd, &error);
-  ASSERT_TRUE(writer) << error;
-  for (const auto& f : original) ASSERT_TRUE(writer->Write(f, &error)) << error;
-  std::vector<std::string> files;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.path().extension() == ".pcd") files.push_back(e.path().string());
-  std::sort(files.begin(), files.end());
+  const std::vector<std::string> files = WritePcdRecording(original, dir);
   ASSERT_EQ(files.size(), 2u);
   for (const bool loop : {false, true}) {
     auto source = OpenSource("pcd:" + files[1] + (loop ? "?loop=1" : ""), &error);
