@@ -4,6 +4,7 @@
 #include "core/features.h"
 #include "core/recognition.h"
 #include "io/cloud_io.h"
+#include "support/mosd_truth.h"
 #include "support/test_data.h"
 
 #include <gtest/gtest.h>
@@ -218,13 +219,8 @@ TEST(SegmentMosd, ASegmentedModelFindsTheSameCanInAnotherCapture) {
   Segmentation s;
   ASSERT_TRUE(Segment(source->cloud, SegmentationOptions{}, &s, &error)) << error;
   const Cloud model = ExtractPoints(source->cloud, s.clusters[0].indices);
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  int n = 0;
-  for (std::size_t i = 0; i < target->labels.size(); ++i)
-    if (target->labels[i] / 10 == 4 && std::isfinite(target->cloud[i].z))
-      sum += target->cloud[i].getVector3fMap().cast<double>(), ++n;
+  const auto [truth, n] = testing::MosdObjectCentroid(*target, 4);
   ASSERT_GT(n, 1000);
-  const Eigen::Vector3f truth = (sum / n).cast<float>();
 
   RecognitionOptions options;  // wider supports for another viewpoint (docs/RESULTS.md)
   options.scene_keypoint_radius_m = 0.01f;

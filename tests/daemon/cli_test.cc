@@ -255,13 +255,8 @@ TEST(Cli, RecognizeWithSeveralModelsNamesEachInstancesModel) {
   std::string error;
   const auto scene = saccade::LoadLabelledCloud(mosd("test31.pcd"), &error);
   ASSERT_TRUE(scene) << error;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  int n = 0;
-  for (std::size_t i = 0; i < scene->labels.size(); ++i)
-    if (scene->labels[i] / 10 == 4 && std::isfinite(scene->cloud[i].z))
-      sum += scene->cloud[i].getVector3fMap().cast<double>(), ++n;
+  const auto [can, n] = saccade::testing::MosdObjectCentroid(*scene, 4);
   ASSERT_GT(n, 1000);
-  const Eigen::Vector3f can = (sum / n).cast<float>();
   // Each instance: "model":"NAME", ..., "centroid":[x,y,z].
   int cans = 0;
   for (std::size_t at = r.out.find("{\"model\":\""); at != std::string::npos;

@@ -2,9 +2,25 @@
 // ../shared/data/mosd_xcap/cases_with_pose.yaml (row-major, model capture to scene capture).
 #pragma once
 
+#include "io/cloud_io.h"
+
 #include <Eigen/Core>
 
+#include <cmath>
+#include <utility>
+
 namespace saccade::testing {
+
+/// The centroid of mOSD object k's finite labelled points (labels 10k..10k+9), and how many
+/// there are.
+inline std::pair<Eigen::Vector3f, int> MosdObjectCentroid(const LabelledCloud& scene, int k) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (std::size_t i = 0; i < scene.labels.size(); ++i)
+    if (int(scene.labels[i] / 10) == k && std::isfinite(scene.cloud[i].z))
+      sum += scene.cloud[i].getVector3fMap().cast<double>(), ++n;
+  return {n ? Eigen::Vector3f((sum / n).cast<float>()) : Eigen::Vector3f::Zero(), n};
+}
 
 inline Eigen::Matrix4f RowMajorPose(const float (&t)[16]) {
   return Eigen::Map<const Eigen::Matrix<float, 4, 4, Eigen::RowMajor>>(t);
