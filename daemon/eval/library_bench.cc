@@ -100,6 +100,7 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
   std::map<std::string, std::unique_ptr<LibraryModel>> whole;
   std::map<std::string, std::unique_ptr<LibraryModel>> this_capture;
   std::map<std::string, std::vector<CaptureKey>> all_captures;
+  std::map<std::string, const LibraryModel*> chosen;  // this capture's, once per identity
   const auto describe = [&](const std::string& identity,
                             ViewsModel views) -> std::unique_ptr<LibraryModel> {
     std::string why;
@@ -120,6 +121,7 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
   };
   const auto model_of = [&](const std::string& identity,
                             const std::string& scene) -> const LibraryModel* {
+    if (const auto it = chosen.find(identity); it != chosen.end()) return it->second;
     std::optional<ViewsModel> views = others.ForFile(identity, scene, error);
     if (!views) return nullptr;
     auto& every_capture = all_captures[identity];
@@ -130,13 +132,14 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
     }
     auto& slot = views->captures == every_capture ? whole[identity] : this_capture[identity];
     if (!slot) slot = describe(identity, std::move(*views));
-    return slot.get();
+    return chosen[identity] = slot.get();
   };
 
   std::size_t scene_index = 0;
   for (const std::string& scene : scenes) {
     if (scene_index++ % std::size_t(std::max(1, options.every)) != 0) continue;
     this_capture.clear();
+    chosen.clear();
     const CaptureCuts::Capture* capture = captures.Load(scene, error);
     if (!capture) return false;
     const auto labels = labelled.find(Normal(scene));
