@@ -35,13 +35,69 @@ Eigen::Matrix4f FitRigid(const std::vector<Eigen::Vector3f>& from,
   return Eigen::umeyama(a, b, false).cast<float>();
 }
 
+// Local frames whose poses differ by less than this agree on the pose's rotation.
+constexpr float kFramesAgreeRad = 30.0f * float(M_PI) / 180.0f;
+
+// A symmetric model's matches of one place vote for one centroid but come from as many poses as
+// it has turns. Keeps the `members` whose local frames agree with the frames of the member most
+// others agree with, each given the turn that makes it agree, and returns their model points
+// turned so (about the centroid): one pose fits them all. Without turns: every member, as it is.
+std::vector<Eigen::Vector3f> AgreeingModelPoints(
+    const Descriptors& model, const Cloud& model_cloud, const Eigen::Vector3f& model_centroid,
+    const Descriptors& scene, const std::vector<std::pair<int, int>>& correspondences,
+    const std::vector<Eigen::Matrix3f>& turns, std::vector<int>* members) {
+  const auto point = [&](int c) {
+    return Eigen::Vector3f(model_cloud[model.keypoint[correspondences[c].first]].getVector3fMap());
+  };
+  std::vector<Eigen::Vector3f> out;
+  if (turns.size() <= 1) {
+    for (int c : *members) out.push_back(point(c));
+    return out;
+  }
+  const std::size_t n = members->size();
+  std::vector<Eigen::Matrix3f> rotation(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto [mi, si] = correspondences[(*members)[i]];
+    rotation[i] = scene.lrf[si].transpose() * model.lrf[mi];
+  }
+  const float min_cos = std::cos(kFramesAgreeRad);
+  // The turn of b's model that brings its rotation nearest a's, if near enough (-1: none).
+  const auto turn_to = [&](std::size_t a, std::size_t b) {
+    const Eigen::Matrix3f relative = rotation[a].transpose() * rotation[b];
+    int best = -1;
+    float best_cos = min_cos;
+    for (std::size_t k = 0; k < turns.size(); ++k) {
+      const float c = ((relative * turns[k].transpose()).trace() - 1) / 2;
+      if (c >= best_cos) best_cos = c, best = int(k);
+    }
+    return best;
+  };
+  std::size_t seed = 0;
+  int seed_count = -1;
+  for (std::size_t a = 0; a < n; ++a) {
+    int count = 0;
+    for (std::size_t b = 0; b < n; ++b) count += turn_to(a, b) >= 0;
+    if (count > seed_count) seed_count = count, seed = a;
+  }
+  std::vector<int> kept;
+  for (std::size_t b = 0; b < n; ++b) {
+    const int k = turn_to(seed, b);
+    if (k < 0) continue;
+    kept.push_back((*members)[b]);
+    out.push_back(model_centroid + turns[std::size_t(k)] * (point((*members)[b]) - model_centroid));
+  }
+  members->swap(kept);
+  return out;
+}
+
 }  // namespace
 
 std::vector<Detection> HoughGroup(const Descriptors& model, const Cloud& model_cloud,
                                   const Eigen::Vector3f& model_centroid, const Descriptors& scene,
                                   const Cloud& scene_cloud,
                                   const std::vector<std::pair<int, int>>& correspondences,
-                                  const RecognitionOptions& options) {
+                                  const RecognitionOptions& options,
+                                  const std::vector<Eigen::Matrix3f>& turns) {
   const float bin = options.hough_bin_m;
   // Each correspondence votes for where the model centroid lies in the scene: the centroid's
   // offset in the model keypoint's local frame, carried into the scene keypoint's frame.
@@ -106,26 +162,31 @@ std::vector<Detection> HoughGroup(const Descriptors& model, const Cloud& model_c
     for (std::size_t v = 0; v < votes.size(); ++v)
       if (((votes[v] - centre).cwiseAbs().array() < bin).all()) members.push_back(voter[v]);
     if (static_cast<int>(members.size()) < 3) continue;
+    std::vector<Eigen::Vector3f> from = AgreeingModelPoints(
+        model, model_cloud, model_centroid, scene, correspondences, turns, &members);
+    std::vector<Eigen::Vector3f> to;
+    for (int c : members)
+      to.push_back(scene_cloud[scene.keypoint[correspondences[c].second]].getVector3fMap());
+    if (static_cast<int>(members.size()) < 3) continue;
     Eigen::Matrix4f pose = Eigen::Matrix4f::Identity();
     // Fit, drop correspondences the fit does not explain, fit again (at most a few rounds).
     for (int round = 0; round < 4; ++round) {
-      std::vector<Eigen::Vector3f> from, to;
-      for (int c : members) {
-        from.push_back(model_cloud[model.keypoint[correspondences[c].first]].getVector3fMap());
-        to.push_back(scene_cloud[scene.keypoint[correspondences[c].second]].getVector3fMap());
-      }
       pose = FitRigid(from, to);
       std::vector<int> inliers;
+      std::vector<Eigen::Vector3f> from_in, to_in;
       for (std::size_t i = 0; i < members.size(); ++i) {
         const Eigen::Vector3f mapped =
             pose.topLeftCorner<3, 3>() * from[i] + pose.topRightCorner<3, 1>();
-        if ((mapped - to[i]).squaredNorm() <= thr2) inliers.push_back(members[i]);
+        if ((mapped - to[i]).squaredNorm() > thr2) continue;
+        inliers.push_back(members[i]);
+        from_in.push_back(from[i]);
+        to_in.push_back(to[i]);
       }
-      if (inliers.size() == members.size() || inliers.size() < 3) {
-        members.swap(inliers);
-        break;
-      }
+      const bool done = inliers.size() == members.size() || inliers.size() < 3;
       members.swap(inliers);
+      from.swap(from_in);
+      to.swap(to_in);
+      if (done) break;
     }
     if (static_cast<int>(members.size()) < options.hough_threshold) continue;
     if (!pose.allFinite()) continue;
@@ -153,7 +214,8 @@ std::vector<Detection> ConsensusGroup(const Descriptors& model, const Cloud& mod
                                       const Eigen::Vector3f& model_centroid,
                                       const Descriptors& scene, const Cloud& scene_cloud,
                                       const std::vector<std::pair<int, int>>& correspondences,
-                                      const RecognitionOptions& options) {
+                                      const RecognitionOptions& options,
+                                      const std::vector<Eigen::Matrix3f>& turns) {
   const std::size_t n = correspondences.size();
   std::vector<Eigen::Vector3f> from(n), to(n);
   std::vector<Eigen::Matrix4f> pose(n, Eigen::Matrix4f::Identity());
@@ -166,13 +228,29 @@ std::vector<Detection> ConsensusGroup(const Descriptors& model, const Cloud& mod
     pose[c].topLeftCorner<3, 3>() = R;
     pose[c].topRightCorner<3, 1>() = to[c] - R * from[c];
   }
+  // A symmetric model's point c is also each of its turns about the centroid: a match agrees
+  // with a pose through whichever turn the pose takes nearest its scene point.
+  std::vector<std::vector<Eigen::Vector3f>> turned{from};
+  for (std::size_t k = 1; k < turns.size(); ++k) {
+    turned.emplace_back(n);
+    for (std::size_t c = 0; c < n; ++c)
+      turned[k][c] = model_centroid + turns[k] * (from[c] - model_centroid);
+  }
   const float thr2 = options.pose_inlier_threshold_m * options.pose_inlier_threshold_m;
+  // The matches that agree with `p`, each as (match, its model point as the pose takes it).
   const auto agreeing = [&](const Eigen::Matrix4f& p) {
-    std::vector<int> members;
+    std::vector<std::pair<int, Eigen::Vector3f>> members;
     const Eigen::Matrix3f R = p.topLeftCorner<3, 3>();
     const Eigen::Vector3f t = p.topRightCorner<3, 1>();
-    for (std::size_t c = 0; c < n; ++c)
-      if ((R * from[c] + t - to[c]).squaredNorm() <= thr2) members.push_back(int(c));
+    for (std::size_t c = 0; c < n; ++c) {
+      float best = thr2;
+      const Eigen::Vector3f* point = nullptr;
+      for (const auto& model_points : turned) {
+        const float d2 = (R * model_points[c] + t - to[c]).squaredNorm();
+        if (d2 <= best) best = d2, point = &model_points[c];
+      }
+      if (point) members.emplace_back(int(c), *point);
+    }
     return members;
   };
   std::vector<int> support(n, 0);
@@ -191,18 +269,18 @@ std::vector<Detection> ConsensusGroup(const Descriptors& model, const Cloud& mod
     if (used[seed]) continue;
     // Refit on the seed's agreeing matches, re-gather, twice: the seed's own frames are noisy.
     Eigen::Matrix4f p = pose[seed];
-    std::vector<int> members = agreeing(p);
+    auto members = agreeing(p);
     for (int round = 0; round < 2 && int(members.size()) >= 3; ++round) {
       std::vector<Eigen::Vector3f> a, b;
-      for (int c : members) a.push_back(from[c]), b.push_back(to[c]);
+      for (const auto& [c, point] : members) a.push_back(point), b.push_back(to[c]);
       const Eigen::Matrix4f refit = FitRigid(a, b);
       if (!refit.allFinite()) break;
-      std::vector<int> again = agreeing(refit);
+      auto again = agreeing(refit);
       if (again.size() < members.size()) break;
       p = refit;
       members.swap(again);
     }
-    for (int c : members) used[c] = 1;
+    for (const auto& member : members) used[member.first] = 1;
     used[seed] = 1;
     if (int(members.size()) < options.consensus_min_votes) continue;
     const Eigen::Matrix3f R = p.topLeftCorner<3, 3>();
@@ -211,9 +289,9 @@ std::vector<Detection> ConsensusGroup(const Descriptors& model, const Cloud& mod
     d.model_to_scene = p;
     d.votes = int(members.size());
     d.centroid_m = R * model_centroid + p.topRightCorner<3, 1>();
-    for (int c : members)
-      d.correspondences.emplace_back(model.keypoint[correspondences[c].first],
-                                     scene.keypoint[correspondences[c].second]);
+    for (const auto& member : members)
+      d.correspondences.emplace_back(model.keypoint[correspondences[member.first].first],
+                                     scene.keypoint[correspondences[member.first].second]);
     out.push_back(std::move(d));
   }
   return out;

@@ -5,6 +5,7 @@
 #include "core/foveation.h"
 #include "core/nearest_within.h"
 #include "core/surface_views.h"
+#include "core/symmetry.h"
 
 #include <pcl/kdtree/kdtree_flann.h>
 #include <flann/flann.hpp>
@@ -324,6 +325,12 @@ std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>& views,
   if (out.descriptors_.size() == 0) {
     Fail(error, "model has no describable keypoint (too few points for the SHOT radius?)");
     return std::nullopt;
+  }
+  if (whole_surface) {
+    SymmetryOptions symmetry;
+    symmetry.tolerance_m = 2.5f * out.scale_.spacing_m;
+    symmetry.max_sqr_distance = options.max_descriptor_sqr_distance;
+    out.symmetries_ = FindSymmetries(out.cloud_, out.centroid_, out.descriptors_, symmetry);
   }
   out.index_ = std::make_unique<ShotIndex>(out.descriptors_.shot, options);
   return out;

@@ -82,6 +82,9 @@ class ModelDescription {
   const VerificationModel& verification() const { return verification_; }
   /// Its size and point spacing: with radii_from_model, Recognize fits its radii to these.
   const ModelScale& scale() const { return scale_; }
+  /// The turns about centroid() that map a whole-surface model onto itself (core/symmetry.h),
+  /// identity first; just the identity for a model seen from one side.
+  const std::vector<Eigen::Matrix3f>& symmetries() const { return symmetries_; }
 
   /// Nearest model descriptor of `shot` (kShotLength floats) within sqrt(max_sqr_distance):
   /// index into descriptors() (-1 when none is that near) and squared distance. The bound
@@ -101,6 +104,7 @@ class ModelDescription {
   Eigen::Vector3f centroid_ = Eigen::Vector3f::Zero();
   VerificationModel verification_;
   ModelScale scale_;
+  std::vector<Eigen::Matrix3f> symmetries_{Eigen::Matrix3f::Identity()};
   std::unique_ptr<ShotIndex> index_;
 };
 

@@ -173,13 +173,13 @@ void GroupAndVerify(const ModelDescription& model, const Cloud& scene,
   // 5. Hough voting and pose per instance.
   auto t = Clock::now();
   result->instances = HoughGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc,
-                                 scene, correspondences, options);
+                                 scene, correspondences, options, model.symmetries());
   if (options.consensus_grouping)
-    result->instances =
-        MergeHypotheses(std::move(result->instances),
-                        ConsensusGroup(model.descriptors(), model.cloud(), model.centroid(),
-                                       scene_desc, scene, correspondences, options),
-                        2.0f * options.hough_bin_m);
+    result->instances = MergeHypotheses(
+        std::move(result->instances),
+        ConsensusGroup(model.descriptors(), model.cloud(), model.centroid(), scene_desc, scene,
+                       correspondences, options, model.symmetries()),
+        2.0f * options.hough_bin_m);
   stats.hypotheses = result->instances.size();
   result->hypotheses = result->instances;
   stats.stage_ms.emplace_back("group", MsSince(t));

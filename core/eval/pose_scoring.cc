@@ -22,11 +22,14 @@ std::vector<Eigen::Matrix4f> CubeRotations() {
 
 PoseError LeastError(const Eigen::Matrix4f& estimate, const Eigen::Matrix4f& truth,
                      const Eigen::Matrix4f& model_in_object, const Eigen::Vector3f& centre,
-                     const std::vector<Eigen::Matrix4f>& turns) {
+                     const std::vector<Eigen::Matrix4f>& turns, Eigen::Matrix4f* matched) {
   PoseError best{0, 1e9};
   for (const Eigen::Matrix4f& turn : turns) {
-    const PoseError e = ComparePoses(estimate, truth * turn * model_in_object, centre);
-    if (e.rotation_deg < best.rotation_deg) best = e;
+    const Eigen::Matrix4f turned = truth * turn * model_in_object;
+    const PoseError e = ComparePoses(estimate, turned, centre);
+    if (e.rotation_deg >= best.rotation_deg) continue;
+    best = e;
+    if (matched) *matched = turned;
   }
   return best;
 }

@@ -17,9 +17,10 @@ std::vector<Eigen::Matrix4f> CubeRotations();
 /// The pose error of a model placed at `model_in_object` in an object whose truth is `truth`,
 /// the object turned by whichever of `turns` brings it nearest in rotation (the identity alone
 /// for an object with no symmetry); the translation error is measured at `centre` (model frame).
+/// `matched`, when given, is set to the model's truth so turned (what StepError compares with).
 PoseError LeastError(const Eigen::Matrix4f& estimate, const Eigen::Matrix4f& truth,
                      const Eigen::Matrix4f& model_in_object, const Eigen::Vector3f& centre,
-                     const std::vector<Eigen::Matrix4f>& turns);
+                     const std::vector<Eigen::Matrix4f>& turns, Eigen::Matrix4f* matched = nullptr);
 
 /// How far the motion between two frames (`pose_a` to `pose_b`: `centre`'s shift and the turn)
 /// differs from the truth's (`truth_a` to `truth_b`). A truth's own slow error cancels out of it,

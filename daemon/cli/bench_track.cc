@@ -14,6 +14,7 @@
 #include "daemon/cli/commands.h"
 #include "daemon/latency_histogram.h"
 #include "daemon/settings.h"
+#include "daemon/tbb_parallel.h"
 #include "daemon/tracker.h"
 #include "io/cloud_io.h"
 #include "io/frame_source.h"
@@ -76,7 +77,10 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
              "the inverse of frame N's")
       .Value("symmetry", "cube",
              "the target looks the same turned onto any of its frame's axes: its rotation "
-             "error is the least over those turns");
+             "error is the least over those turns")
+      .Switch("fovea-on-truth",
+              "no tracker: every frame recognized alone with the fovea on the target's true "
+              "centroid (recognition as a perfect attention would aim it; nothing dropped)");
   if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
   if (!args.Has("source") || !args.Has("model"))
@@ -129,12 +133,24 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
   }
   auto bus = std::make_unique<MemoryBus>();
   MemoryBus* published = bus.get();
+  const bool at_truth = args.Has("fovea-on-truth");
   std::unique_ptr<Tracker> tracker =
-      Tracker::Create(settings, nullptr, std::move(bus), nullptr, &error);
-  if (!tracker) {
+      at_truth ? nullptr : Tracker::Create(settings, nullptr, std::move(bus), nullptr, &error);
+  if (!at_truth && !tracker) {
     err << "saccade bench-track: " << error << "\n";
     return kExitFailure;
   }
+  // --fovea-on-truth: the target's model described once, as the tracker would describe it.
+  std::optional<ModelDescription> described;
+  if (at_truth) {
+    const auto views = LoadModelViews(settings.models[0], &error);
+    if (views) described = DescribeModel(*views, settings.recognition, &error);
+    if (!described) {
+      err << "saccade bench-track: " << settings.models[0] << ": " << error << "\n";
+      return kExitFailure;
+    }
+  }
+  const ParallelFor parallel_for = MakeTbbParallelFor();
   std::vector<Eigen::Vector3f> centres;  // each model's centroid, its frame
   for (const std::string& spec : settings.models) {
     const std::optional<Cloud> model_cloud = LoadModelCloud(spec, &error);
@@ -166,14 +182,33 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
   std::vector<Outcome> outcomes;
   Tally t;
   bool all_held = false;  // the last processed frame's tracks were all held
+  // Recognition alone, the fovea on the target's truth: every instance it keeps counts.
+  const auto recognize_at_truth = [&](const Frame& f) {
+    SceneQuery query;
+    query.fovea_m = f.truth->centroid_m;
+    query.fovea = settings.fovea;
+    query.intrinsics = f.intrinsics;
+    const std::int64_t t0 = SteadyNowNs();
+    FrameDetections d;
+    d.instances =
+        Recognize(*described, *f.cloud, query, settings.recognition, parallel_for).instances;
+    d.recognize_ms = (SteadyNowNs() - t0) * 1e-6;
+    for (Detection& i : d.instances) i.model = 0, i.track_state = TrackState::kNone;
+    return d;
+  };
   const auto process = [&](Frame f, std::size_t index) {
     const GroundTruth truth = *f.truth;
     const std::int64_t t0 = SteadyNowNs();
-    tracker->Process(std::move(f));
+    FrameDetections d;
+    if (at_truth) {
+      d = recognize_at_truth(f);
+    } else {
+      tracker->Process(std::move(f));
+      d = published->Frames().back().frame;
+    }
     const double ms = (SteadyNowNs() - t0) * 1e-6;
     t.frame_ms.Add(ms);
     if (all_held) t.tracking_frame_ms.Add(ms);
-    const FrameDetections d = published->Frames().back().frame;
     t.track_ms.Add(d.track_ms);
     if (d.recognize_ms > 0) {
       t.recognize_ms.Add(d.recognize_ms);
@@ -186,25 +221,26 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
                });
     Outcome& o = outcomes[index];
     o.processed = true;
-    o.reason = published->Frames().back().fixation.reason;
+    o.reason = at_truth ? "fovea on the truth" : published->Frames().back().fixation.reason;
     for (const Detection& inst : d.instances) {
       char state[48];
       std::snprintf(state, sizeof state, "%s%s %.2f", o.states.empty() ? "" : ", ",
                     TrackStateName(inst.track_state), inst.confidence);
       o.states += state;
-      if (!Actionable(inst.track_state, settings.tracking.enabled)) continue;
+      if (!at_truth && !Actionable(inst.track_state, settings.tracking.enabled)) continue;
       const std::size_t j = static_cast<std::size_t>(inst.model);
       ObjectOutcome& oo = o.objects[j];
-      const PoseError e =
-          j == 0 ? LeastError(inst.model_to_scene, truth.target_pose.matrix(), model_in_object,
-                              centres[j], turns)
-                 : ComparePoses(inst.model_to_scene, truth_of(truth, j).pose.matrix(), centres[j]);
+      // The truth the instance is scored against: a symmetric target's turned the nearest way,
+      // so that frame-to-frame errors compare like with like.
+      Eigen::Matrix4f matched = truth_of(truth, j).pose.matrix();
+      const PoseError e = j == 0 ? LeastError(inst.model_to_scene, truth.target_pose.matrix(),
+                                              model_in_object, centres[j], turns, &matched)
+                                 : ComparePoses(inst.model_to_scene, matched, centres[j]);
       if (oo.error_cm < 0 || e.translation_m * 100 < oo.error_cm) {
         oo.error_cm = e.translation_m * 100;
         oo.error_deg = e.rotation_deg;
         oo.pose = inst.model_to_scene;
-        oo.truth = j == 0 ? Eigen::Matrix4f(truth.target_pose.matrix() * model_in_object)
-                          : truth_of(truth, j).pose.matrix();
+        oo.truth = matched;
       }
       if (e.translation_m * 100 <= *tol_cm && e.rotation_deg <= *tol_deg) oo.good = true;
       if (e.translation_m * 100 > *wrong_cm) oo.wrong = true;
@@ -247,7 +283,7 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
     outcomes.back().objects.resize(objects);
     for (std::size_t j = 0; j < objects; ++j)
       outcomes.back().objects[j].visible = truth_of(*frame.truth, j).visible_fraction >= 0.2f;
-    const double arrival_s = double(i) / *rate;
+    const double arrival_s = at_truth ? busy_until_s : double(i) / *rate;  // none dropped
     if (pending && busy_until_s <= arrival_s) {  // freed before this frame came: takes the last
       const double start = busy_until_s;
       busy_until_s = start + process(std::move(pending->first), pending->second);

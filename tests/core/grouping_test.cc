@@ -97,6 +97,74 @@ TEST(ConsensusGroup, FindsThePoseTheAgreeingFramesGiveAmongRandomMatches) {
   EXPECT_EQ(merged[0].votes, 20);
 }
 
+// A cube's 24 turns onto itself about its centre, its frame's axes onto each other.
+std::vector<Eigen::Matrix3f> CubeTurns() {
+  std::vector<Eigen::Matrix3f> out;
+  const int perm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {1, 0, 2}, {0, 2, 1}, {2, 1, 0}};
+  for (const auto& p : perm)
+    for (int signs = 0; signs < 8; ++signs) {
+      Eigen::Matrix3f m = Eigen::Matrix3f::Zero();
+      for (int r = 0; r < 3; ++r) m(r, p[r]) = (signs >> r & 1) ? -1.0f : 1.0f;
+      if (m.determinant() > 0) out.push_back(m);
+    }
+  return out;
+}
+
+// A symmetric model's right matches each come from whichever of its turns the descriptor found
+// nearest: 24 matches of a cube, each to the scene image of a different turn of its point. They
+// vote for one centre, but no single pose explains them unless grouping knows the turns; with
+// them, both groupings give one instance of every match, at a pose the cube cannot tell from X.
+TEST(Grouping, ASymmetricModelsMatchesThroughItsTurnsAreOneInstance) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-0.04f, 0.04f);
+  const std::vector<Eigen::Matrix3f> turns = CubeTurns();
+  ASSERT_EQ(turns.size(), 24u);
+  Eigen::Affine3f X(Eigen::AngleAxisf(0.9f, Eigen::Vector3f(1, -2, 1).normalized()));
+  X.translation() = Eigen::Vector3f(-0.095f, 0.055f, 0.705f);  // a Hough cell's centre
+  Cloud model, scene;
+  Descriptors md, sd;
+  std::vector<std::pair<int, int>> corr;
+  for (int i = 0; i < 24; ++i) {
+    PointT p;
+    p.getVector3fMap() = Eigen::Vector3f(u(rng), u(rng), u(rng));
+    model.push_back(p);
+    const Eigen::Matrix3f L =
+        Eigen::AngleAxisf(u(rng) * 40, Eigen::Vector3f(u(rng), u(rng), 1).normalized()).matrix();
+    md.keypoint.push_back(i);
+    md.lrf.push_back(L);
+    // The scene shows the point's turn k: there its frame is L turned by k, then moved by X.
+    const Eigen::Matrix3f& k = turns[std::size_t(i)];
+    PointT q;
+    q.getVector3fMap() = X * (k * p.getVector3fMap());
+    scene.push_back(q);
+    sd.keypoint.push_back(i);
+    sd.lrf.push_back(L * k.transpose() * X.linear().transpose());
+    corr.emplace_back(i, i);
+  }
+  RecognitionOptions o;
+  o.hough_bin_m = 0.01f;
+  o.pose_inlier_threshold_m = 0.005f;
+  const Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  EXPECT_TRUE(HoughGroup(md, model, centre, sd, scene, corr, o).empty());
+  for (const Detection& d : ConsensusGroup(md, model, centre, sd, scene, corr, o))
+    EXPECT_LT(d.votes, 4);
+  const auto as_cube = [&](const Detection& d) {
+    float least = 1e9f;  // the rotation error, least over the turns
+    for (const Eigen::Matrix3f& k : turns)
+      least = std::min(least, Eigen::AngleAxisf(d.model_to_scene.topLeftCorner<3, 3>().transpose() *
+                                                X.linear() * k)
+                                  .angle());
+    return least;
+  };
+  for (const auto& found : {HoughGroup(md, model, centre, sd, scene, corr, o, turns),
+                            ConsensusGroup(md, model, centre, sd, scene, corr, o, turns)}) {
+    ASSERT_FALSE(found.empty());
+    EXPECT_EQ(found[0].votes, 24);
+    EXPECT_LT(as_cube(found[0]), 1e-3f);
+    EXPECT_LT((found[0].centroid_m - X.translation()).norm(), 1e-4f);
+  }
+}
+
 TEST(HoughGroup, TooFewVotesGiveNoInstance) {
   const Cloud model = BoxCorner();
   std::vector<std::uint8_t> mask(model.size(), 1);
