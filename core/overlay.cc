@@ -1,6 +1,7 @@
 #include "core/overlay.h"
 
 #include "core/check.h"
+#include "core/surface_views.h"
 #include "core/types.h"
 #include "core/verification.h"
 
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace saccade {
 namespace {
@@ -228,6 +230,71 @@ RgbCanvas SceneImage(const Cloud& scene, const CameraIntrinsics& camera, int ste
     if (p.z >= z) continue;
     z = p.z;
     canvas.Set(static_cast<int>(u), static_cast<int>(v), shade(p));
+  }
+  return canvas;
+}
+
+RgbCanvas ModelImage(const Cloud& model, int panels, int panel_px) {
+  panels = std::max(1, panels);
+  panel_px = std::max(16, panel_px);
+  RgbCanvas canvas(panels * panel_px, panel_px, Rgb{255, 255, 255});
+  std::vector<const PointT*> points;
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
+  for (const PointT& p : model.points)
+    if (FinitePoint(p)) {
+      points.push_back(&p);
+      lo = lo.cwiseMin(p.getVector3fMap());
+      hi = hi.cwiseMax(p.getVector3fMap());
+    }
+  if (points.empty()) return canvas;
+  const bool coloured = HasColour(model);
+  const Eigen::Vector3f centre = (lo + hi) / 2;
+  const float radius = std::max(1e-3f, (hi - lo).norm() / 2);
+  // The first viewpoint: where a captured model's camera stood (its sensor origin, when outside
+  // the model), else in front along -z, as a camera's frame would have it.
+  Eigen::Vector3f front = model.sensor_origin_.head<3>() - centre;
+  if (!((front.array().abs() > (hi - lo).array() / 2).any()) || !front.allFinite())
+    front = -Eigen::Vector3f::UnitZ();
+  front.y() = 0;
+  if (front.norm() < 1e-6f) front = -Eigen::Vector3f::UnitZ();
+  front.normalize();
+  const float distance = 4 * radius;
+  CameraIntrinsics k;
+  k.width = k.height = panel_px;
+  k.fx = k.fy = 0.45 * panel_px * distance / radius;  // the bounding sphere within 90%
+  k.cx = k.cy = (panel_px - 1) / 2.0;
+  // Spacing between neighbours, from the points' count over the surface of the sphere's half.
+  const float spacing = std::sqrt(2 * float(M_PI) * radius * radius / float(points.size()));
+  const int dot = std::max(0, int(std::lround(0.8 * k.fx * spacing / distance)));
+  constexpr float kAbove = 25.0f * float(M_PI) / 180.0f;
+  for (int panel = 0; panel < panels; ++panel) {
+    const float yaw = 2 * float(M_PI) * float(panel) / float(panels);
+    const Eigen::Vector3f around = Eigen::AngleAxisf(yaw, Eigen::Vector3f::UnitY()) * front;
+    const Eigen::Vector3f dir =
+        std::cos(kAbove) * around - std::sin(kAbove) * Eigen::Vector3f::UnitY();
+    const Eigen::Matrix4f to_camera = LookAt(centre + distance * dir, centre).inverse();
+    std::vector<std::size_t> order(points.size());
+    std::vector<Eigen::Vector3f> in_camera(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      in_camera[i] = (to_camera * points[i]->getVector3fMap().homogeneous()).head<3>();
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return in_camera[a].z() > in_camera[b].z(); });
+    RgbCanvas view(panel_px, panel_px, Rgb{255, 255, 255});
+    for (std::size_t i : order) {  // far to near: nearer dots cover farther ones
+      const Eigen::Vector3f& q = in_camera[i];
+      const float light = std::clamp(0.55f + 0.45f * (distance - q.z()) / radius, 0.1f, 1.0f);
+      const PointT& p = *points[i];
+      const Rgb base = coloured ? Rgb{p.r, p.g, p.b} : Rgb{200, 200, 200};
+      const Rgb c{std::uint8_t(base.r * light), std::uint8_t(base.g * light),
+                  std::uint8_t(base.b * light)};
+      const Eigen::Vector2d uv = k.Project(q);
+      DrawDot(int(std::lround(uv.x())), int(std::lround(uv.y())), dot, c, &view);
+    }
+    DrawText(std::to_string(int(std::lround(yaw * 180 / M_PI))) + " DEG", 4, 4, 2, Rgb{0, 0, 0},
+             Rgb{255, 255, 255}, &view);
+    for (int v = 0; v < panel_px; ++v)
+      for (int u = 0; u < panel_px; ++u) canvas.Set(panel * panel_px + u, v, view.At(u, v));
   }
   return canvas;
 }

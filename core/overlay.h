@@ -70,6 +70,13 @@ OrientedBox FitOrientedBox(const std::vector<Eigen::Vector3f>& points);
 RgbCanvas SceneImage(const pcl::PointCloud<pcl::PointXYZRGBA>& scene,
                      const CameraIntrinsics& camera, int step = 1);
 
+/// A model as a picture: its finite points seen from `panels` viewpoints around its centre (each
+/// a square panel of `panel_px`, side by side on white: turned about the camera frame's vertical
+/// axis in equal steps, from 25 degrees above; the first from where a captured model's camera
+/// stood), nearer points over farther ones, each in its colour or, without colour, grey, darker
+/// with depth. Each panel is labelled with its turn.
+RgbCanvas ModelImage(const pcl::PointCloud<pcl::PointXYZRGBA>& model, int panels, int panel_px);
+
 /// A filled square of side 2 * radius_px + 1 centred on pixel (u, v).
 void DrawDot(int u, int v, int radius_px, Rgb colour, RgbCanvas* canvas);
 /// A line from pixel a to pixel b, `thickness_px` wide (clipped to the image first, so far

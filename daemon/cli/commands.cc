@@ -160,6 +160,21 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
+std::optional<int> CheckPngPath(const std::string& path, const std::string& command,
+                                std::ostream& err) {
+  const fs::path render = path;
+  std::error_code ec;
+  const fs::path folder = render.has_parent_path() ? render.parent_path() : fs::path(".");
+  if (render.extension() != ".png")
+    return Usage(err, command, "--render expects a .png path, got '" + render.string() + "'");
+  if (!fs::is_directory(folder, ec) || fs::is_directory(render, ec)) {
+    err << "saccade " << command << ": " << render.string() << ": cannot write there ("
+        << (fs::is_directory(render, ec) ? "a folder" : "no folder " + folder.string()) << ")\n";
+    return kExitFailure;
+  }
+  return std::nullopt;
+}
+
 int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   Args args("saccade recognize",
             "Finds the model in one scene and prints each instance's pose (camera frame, "
@@ -181,19 +196,8 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
              "also draw the scene with each instance's model points, box and confidence");
   if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
-  // A path that cannot take the image is refused before the work, not after it.
-  if (args.Has("render")) {
-    const fs::path render = args.Get("render");
-    std::error_code ec;
-    const fs::path folder = render.has_parent_path() ? render.parent_path() : fs::path(".");
-    if (render.extension() != ".png")
-      return Usage(err, "recognize", "--render expects a .png path, got '" + render.string() + "'");
-    if (!fs::is_directory(folder, ec) || fs::is_directory(render, ec)) {
-      err << "saccade recognize: " << render.string() << ": cannot write there ("
-          << (fs::is_directory(render, ec) ? "a folder" : "no folder " + folder.string()) << ")\n";
-      return kExitFailure;
-    }
-  }
+  if (args.Has("render"))
+    if (auto code = CheckPngPath(args.Get("render"), "recognize", err)) return *code;
   SceneQuery query;
   query.foveated = !args.Has("plain");
   if (args.Has("fovea")) {

@@ -5,6 +5,7 @@
 #include "daemon/exit_codes.h"
 
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,10 @@ namespace saccade {
 
 /// Prints "saccade COMMAND: MESSAGE" and returns kExitUsage.
 int Usage(std::ostream& err, const std::string& command, const std::string& message);
+/// An exit code when `path` cannot take a PNG (not .png, a folder, no such folder), said in one
+/// line; nothing when it can. Checked before the work, not after it.
+std::optional<int> CheckPngPath(const std::string& path, const std::string& command,
+                                std::ostream& err);
 
 int RunRecognize(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunBench(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);

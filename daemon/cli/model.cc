@@ -2,9 +2,11 @@
 // rendered from all around it into the whole surface (core/mesh.h), or captures of the object
 // from several sides, aligned into one model of several views (core/view_alignment.h). The model
 // it writes is a PCD file any command takes where it takes a model.
+#include "core/model.h"
 #include "core/fail.h"
 #include "core/foveation.h"
 #include "core/mesh.h"
+#include "core/overlay.h"
 #include "core/segmentation.h"
 #include "core/sim/scenario.h"
 #include "core/sim/synthetic.h"
@@ -12,6 +14,7 @@
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/cli/pick.h"
+#include "daemon/eval/overlays.h"
 #include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"
 #include "io/json.h"
@@ -193,45 +196,7 @@ int ExportSynthetic(const Args& args, std::ostream& out, std::ostream& err) {
   return kExitOk;
 }
 
-}  // namespace
-
-int RunModel(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
-  Args args("saccade model",
-            "Makes a model from a mesh: renders it, z-buffered, from --views viewpoints all "
-            "around it with the sensor's intrinsics (a Kinect's, 640x480 at 525 px), keeps one "
-            "point per --spacing cube of what any view saw, with its colour (per face from an "
-            "OBJ's materials, per vertex from a PLY), and writes the whole surface in the mesh's "
-            "frame: poses found with it are the mesh's pose in the camera frame.");
-  const MeshViewOptions defaults;
-  args.Value("mesh", "FILE", "the mesh: .obj (with its .mtl), .ply or .stl")
-      .Value("captures", "A.pcd,B.pcd,...",
-             "instead of a mesh: captures of the object from several sides, aligned into one "
-             "model in the first capture's camera frame (each a view: where it was seen from "
-             "is kept)")
-      .Value("synthetic", "target|ball",
-             "instead: write the synthetic Kinect's object as a mesh (PLY, metres, its own "
-             "frame) to --out, for other tools or `--mesh`")
-      .Value("object", "K[,K...]",
-             "with --captures: the object's mOSD label number, one for all or one per capture")
-      .Value("pick", "RULE",
-             "with --captures and no --object: the cluster `saccade segment` would pick "
-             "(largest, nearest or an index; default: largest)")
-      .Value("out", "MODEL.pcd", "the model to write (required)")
-      .Value("unit", "m|mm", "the mesh's unit (default: m)")
-      .Value("views", "N", "viewpoints around the mesh" + Args::Default(defaults.views))
-      .Value("distance", "M",
-             "from the mesh's centre to each viewpoint, metres (farther when the mesh would not "
-             "fit the image)" +
-                 Args::Default(defaults.distance_m))
-      .Value("spacing", "M",
-             "one point per cube of this edge, metres" + Args::Default(defaults.spacing_m))
-      .Switch("json", "print one JSON object instead of text");
-  if (auto code = args.Parse(argv, out, err)) return *code;
-  if (!args.Has("out")) return Usage(err, "model", "missing --out");
-  if (int(args.Has("mesh")) + int(args.Has("captures")) + int(args.Has("synthetic")) != 1)
-    return Usage(err, "model", "expects one of --mesh, --captures and --synthetic");
-  if (args.Has("captures")) return ModelFromCaptures(args, out, err);
-  if (args.Has("synthetic")) return ExportSynthetic(args, out, err);
+int ModelFromMesh(const Args& args, std::ostream& out, std::ostream& err) {
   const std::string unit = args.Get("unit", "m");
   if (unit != "m" && unit != "mm")
     return Usage(err, "model", "--unit expects m or mm, got '" + unit.substr(0, 40) + "'");
@@ -301,6 +266,90 @@ int RunModel(const std::vector<std::string>& argv, std::ostream& out, std::ostre
         << ")\n";
   }
   return kExitOk;
+}
+
+// Draws the model in `model_path` from four sides into `png_path`.
+int DrawModel(const std::string& model_path, const std::string& png_path, bool quiet,
+              std::ostream& out, std::ostream& err) {
+  std::string error;
+  const auto views = LoadModelViews(model_path, &error);
+  if (!views) {
+    err << "saccade model: " << error << "\n";
+    return kExitFailure;
+  }
+  // Seen first from where its camera stood: a capture's, or the first capture's (the frame of
+  // a model of captures); a mesh's model has its origin inside and is seen from -z.
+  Cloud model = MergeViews(*views);
+  model.sensor_origin_ = (*views)[0].sensor_origin_;
+  if (!WriteOverlayPng(png_path, ModelImage(model, 4, 320), &error)) {
+    err << "saccade model: " << error << "\n";
+    return kExitFailure;
+  }
+  if (!quiet) out << "drew " << model_path << " to " << png_path << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+int RunModel(const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
+  Args args("saccade model",
+            "Makes a model from a mesh: renders it, z-buffered, from --views viewpoints all "
+            "around it with the sensor's intrinsics (a Kinect's, 640x480 at 525 px), keeps one "
+            "point per --spacing cube of what any view saw, with its colour (per face from an "
+            "OBJ's materials, per vertex from a PLY), and writes the whole surface in the mesh's "
+            "frame: poses found with it are the mesh's pose in the camera frame.");
+  const MeshViewOptions defaults;
+  args.Value("mesh", "FILE", "the mesh: .obj (with its .mtl), .ply or .stl")
+      .Value("captures", "A.pcd,B.pcd,...",
+             "instead of a mesh: captures of the object from several sides, aligned into one "
+             "model in the first capture's camera frame (each a view: where it was seen from "
+             "is kept)")
+      .Value("synthetic", "target|ball",
+             "instead: write the synthetic Kinect's object as a mesh (PLY, metres, its own "
+             "frame) to --out, for other tools or `--mesh`")
+      .Value("object", "K[,K...]",
+             "with --captures: the object's mOSD label number, one for all or one per capture")
+      .Value("pick", "RULE",
+             "with --captures and no --object: the cluster `saccade segment` would pick "
+             "(largest, nearest or an index; default: largest)")
+      .Value("out", "MODEL.pcd", "the model to write (required)")
+      .Value("unit", "m|mm", "the mesh's unit (default: m)")
+      .Value("views", "N", "viewpoints around the mesh" + Args::Default(defaults.views))
+      .Value("distance", "M",
+             "from the mesh's centre to each viewpoint, metres (farther when the mesh would not "
+             "fit the image)" +
+                 Args::Default(defaults.distance_m))
+      .Value("spacing", "M",
+             "one point per cube of this edge, metres" + Args::Default(defaults.spacing_m))
+      .Value("show", "M.pcd",
+             "instead: draw a model already made (a capture's cut, a mesh's, captures') to "
+             "--render, nothing written")
+      .Value("render", "OUT.png",
+             "also draw the model from four sides, 90 degrees apart (the first from where a "
+             "captured model's camera stood), as a PNG")
+      .Switch("json", "print one JSON object instead of text");
+  if (auto code = args.Parse(argv, out, err)) return *code;
+  const int sources = int(args.Has("mesh")) + int(args.Has("captures")) +
+                      int(args.Has("synthetic")) + int(args.Has("show"));
+  if (sources != 1)
+    return Usage(err, "model", "expects one of --mesh, --captures, --synthetic and --show");
+  if (args.Has("show") && !args.Has("render"))
+    return Usage(err, "model", "--show draws the model: give --render OUT.png");
+  if (!args.Has("show") && !args.Has("out")) return Usage(err, "model", "missing --out");
+  if (args.Has("render") && args.Has("synthetic"))
+    return Usage(err, "model", "--synthetic writes a mesh, not a model: nothing to --render");
+  if (args.Has("render"))
+    if (auto code = CheckPngPath(args.Get("render"), "model", err)) return *code;
+  int code = kExitOk;
+  if (args.Has("captures"))
+    code = ModelFromCaptures(args, out, err);
+  else if (args.Has("synthetic"))
+    code = ExportSynthetic(args, out, err);
+  else if (args.Has("mesh"))
+    code = ModelFromMesh(args, out, err);
+  if (code != kExitOk || !args.Has("render")) return code;
+  return DrawModel(args.Has("show") ? args.Get("show") : args.Get("out"), args.Get("render"),
+                   args.Has("json"), out, err);
 }
 
 }  // namespace saccade

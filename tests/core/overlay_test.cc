@@ -117,6 +117,42 @@ TEST(SceneImage, AStepKeepsEveryStepthPixelOfAnOrganizedCloud) {
   EXPECT_GT(shaded.At(2, 0).r, shaded.At(2, 1).r);
 }
 
+// A model drawn from four sides: a red square 2 cm in front of a blue one (seen first from -z,
+// where a camera at the origin stands): the first panel shows red in its centre over the blue,
+// the third (from behind) blue; each panel draws something and only inside itself.
+TEST(ModelImage, DrawsTheModelFromFourSidesNearerPointsOverFartherOnes) {
+  Cloud model;
+  for (int i = -20; i <= 20; ++i)
+    for (int j = -20; j <= 20; ++j)
+      for (const float z : {0.49f, 0.51f}) {
+        PointT p;
+        p.x = 0.001f * float(i);
+        p.y = 0.001f * float(j);
+        p.z = z;
+        p.r = z < 0.5f ? 255 : 0;
+        p.g = 0;
+        p.b = z < 0.5f ? 0 : 255;
+        p.a = 255;
+        model.push_back(p);
+      }
+  model.sensor_origin_ = Eigen::Vector4f(0, 0, 0, 1);
+  const int panel = 200;
+  const RgbCanvas image = ModelImage(model, 4, panel);
+  ASSERT_EQ(image.width, 4 * panel);
+  ASSERT_EQ(image.height, panel);
+  const auto centre = [&](int k) { return image.At(k * panel + panel / 2, panel / 2); };
+  EXPECT_GT(centre(0).r, 100);
+  EXPECT_EQ(centre(0).b, 0);
+  EXPECT_GT(centre(2).b, 100);
+  EXPECT_EQ(centre(2).r, 0);
+  for (int k = 0; k < 4; ++k) {
+    int drawn = 0;
+    for (int v = 0; v < panel; ++v)
+      for (int u = panel / 4; u < panel; ++u) drawn += image.At(k * panel + u, v) != kWhite;
+    EXPECT_GT(drawn, 100) << "panel " << k;
+  }
+}
+
 TEST(Drawing, LinesFarOutsideTheImageAreClippedAndTextStaysInItsBox) {
   RgbCanvas canvas(64, 48, kWhite);
   // A line from far away across the image: drawn where it crosses, nothing else, at once.

@@ -137,6 +137,15 @@ TEST(Cli, ModelMakesAWholeSurfaceModelOfAMeshAndRefusesABrokenOne) {
   // Read back as a model by another command: its size as recognize measures it.
   const CliRun read = Saccade("recognize --model " + out + " --scene " + out + " --plain");
   EXPECT_NE(read.out.find("model: size 0.12"), std::string::npos) << read.out;
+  // Drawn from four sides, as it is written or afterwards; --show needs somewhere to draw.
+  const std::string png = ::testing::TempDir() + "box_model.png";
+  std::filesystem::remove(png);
+  const CliRun drawn = Saccade("model --show " + out + " --render " + png);
+  ASSERT_EQ(drawn.code, 0) << drawn.out;
+  EXPECT_EQ(drawn.out, "drew " + out + " to " + png + "\n");
+  EXPECT_GT(std::filesystem::file_size(png), 1000u);
+  EXPECT_EQ(Saccade("model --show " + out).code, 2);
+  EXPECT_EQ(Saccade("model --mesh " + mesh + " --out " + out + " --render " + out).code, 2);
 
   const std::string broken = WriteFile("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 9\n");
   const std::string none = ::testing::TempDir() + "broken_model.pcd";
