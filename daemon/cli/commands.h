@@ -28,6 +28,8 @@ int RunFixations(const std::vector<std::string>& args, std::ostream& out, std::o
 int RunView(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunModel(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunSegment(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+/// saccade labels: each label of a labelled scene, its points, centroid and extent.
+int RunLabels(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunEval(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunBenchTrack(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunDemo(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);

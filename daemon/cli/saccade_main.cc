@@ -31,6 +31,7 @@ constexpr Command kCommands[] = {
      saccade::RunDetections},
     {"view", "serve a live web page of what saccaded sees (camera, 3D, strips)", saccade::RunView},
     {"segment", "cut an object out of a capture as a model", saccade::RunSegment},
+    {"labels", "each label of a labelled scene: points, centroid, extent", saccade::RunLabels},
     {"model", "make a model from a mesh (.obj, .ply, .stl)", saccade::RunModel},
     {"eval", "recognition configurations over frames or cases with ground truth", saccade::RunEval},
     {"demo", "find a target in a synthetic Kinect scene", saccade::RunDemo},

@@ -242,6 +242,39 @@ TEST(Cli, ModelFromCapturesIsFoundInACaptureItNeverSaw) {
   EXPECT_EQ(Saccade("model --out " + none).code, 2);
 }
 
+// What a labelled scene holds: a hand-made one (labels 1, 41 and 42: object 4 is 41 and 42
+// together; a NaN point counts nowhere), and mOSD's test31, where the Pringles can (object 4) is
+// at the centroid issue 40's first hour checked a detection against.
+TEST(Cli, LabelsListsEachLabelAndEachMosdObject) {
+  const std::string scene = WriteFile(
+      "labelled.pcd",
+      "VERSION 0.7\nFIELDS x y z label\nSIZE 4 4 4 4\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH 5\n"
+      "HEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 5\nDATA ascii\n"
+      "0 0 1 1\n0.1 0 1 41\n0.3 0 1 42\n0.2 0.2 1.2 42\nnan nan nan 42\n");
+  const CliRun r = Saccade("labels " + scene);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("3 label(s), 1 mOSD object(s)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("label 42                 2 points, centroid (0.250, 0.100, 1.100) m, "
+                       "extent 0.100 x 0.200 x 0.200 m"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("object 4 (41-42)         3 points, centroid (0.200, 0.067, 1.067) m"),
+            std::string::npos)
+      << r.out;
+  const CliRun unlabelled = Saccade("labels " + WriteFile("plain.pcd", "not a pcd\n"));
+  EXPECT_EQ(unlabelled.code, 1);
+  EXPECT_EQ(Saccade("labels").code, 2);
+
+  SACCADE_REQUIRE_DATA("pcl_data/mOSD/test31.pcd");
+  const CliRun mosd =
+      Saccade("labels " + saccade::testing::DataPath("pcl_data/mOSD/test31.pcd") + " --json");
+  ASSERT_EQ(mosd.code, 0) << mosd.out;
+  EXPECT_NE(mosd.out.find("{\"object\":4,\"first_label\":40,\"last_label\":40,\"points\":10249,"
+                          "\"centroid_m\":[0.0287"),
+            std::string::npos)
+      << mosd.out;
+}
+
 // Several models at once (a library): the Pringles can cut from test24 and a box cut from test0,
 // searched together in test31, where the can stands on the cookie tin and no such box is. The
 // can is named by its model within 8 cm of its labelled points; the box's model claims nothing
