@@ -137,13 +137,12 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   if (xyz.size() < 3 * 10) return c;
   const NearestIndex crop(std::move(xyz));
   const std::size_t n_points = model.points.size();
-  // A whole-surface model's point counts only where the pose turns it towards the camera, and
-  // not at a grazing angle (beyond about 75 degrees), where a depth sensor returns little.
-  constexpr float kMinFacing = 0.25f;  // cosine between the normal and the line of sight
+  // A whole-surface model's point counts only where the pose turns it towards the camera (a
+  // mesh's: and not almost edge-on, model.min_facing).
   const auto faces_camera = [&](std::size_t m, const Eigen::Vector3f& p) {
     if (!model.whole_surface) return true;
     const Eigen::Vector3f n = c.pose.topLeftCorner<3, 3>() * model.normals[m];
-    return !n.allFinite() || n.dot(p) < -kMinFacing * p.norm();
+    return !n.allFinite() || n.dot(p) < -model.min_facing * p.norm();
   };
   // ICP aligns an even subset of the points; all of them are counted afterwards.
   const std::size_t icp_step = std::max<std::size_t>(1, n_points / std::max(1, o.icp_points));

@@ -81,6 +81,11 @@ struct VerificationModel {
   /// points a pose turns towards the camera are aligned and counted, and the share found is of
   /// those (a captured model is one view: every point counts).
   bool whole_surface = false;
+  /// ...and a point counts only where its normal is at least this cosine from edge-on to the
+  /// line of sight: a depth sensor returns little of a face it sees almost edge-on. Set for a
+  /// rendered mesh, whose normals are exact; 0 for captured views, whose estimated normals a cut
+  /// would misjudge (docs/RESULTS.md, "Symmetric models").
+  float min_facing = 0;
 };
 
 /// At most `max_points` of the model's finite points; `normals` are per model point (NaN where
