@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The four clients of docs/LCM.md (issue 19) against a live saccaded over real LCM: the C++,
 # Python, Java and Lua examples each print the instances of 3 frames; every line must name the
-# model, a centroid in front of the camera and a confidence in [0, 1], and the four languages
-# must decode the same place (within 1 cm of their mean). Then the Python log reader must read
+# model (its short name), the track's id and state, a centroid in front of the camera and a
+# confidence in [0, 1]; a track's first state is announced once (#N: NEW -> STATE) before its
+# first line; and the four languages must decode the same place (within 1 cm of their mean). Then the Python log reader must read
 # what lcm-logger wrote as saccade detections does.
 #   clients_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
@@ -36,21 +37,30 @@ run java java -cp "/usr/share/java/lcm.jar:$clients/java/saccade-lcmtypes.jar:$c
   PrintInstances
 (cd "$clients/lua" && LUA_PATH="./?.lua;./?/init.lua;;" run lua lua5.2 print_instances.lua)
 
-line='^synthetic:target at \((-?[0-9.]+), (-?[0-9.]+), (-?[0-9.]+)\) m in camera, confidence ([0-9.]+)$'
+state='(NONE|TRACKING|LOST|SEARCHING|RE-ACQUIRED)'
+line="^synthetic:target #-?[0-9]+ $state at \\((-?[0-9.]+), (-?[0-9.]+), (-?[0-9.]+)\\) m in camera, confidence ([0-9.]+)\$"
+change="^synthetic:target #[0-9]+: (NEW|$state) -> $state\$"
 for name in cpp python java lua; do
-  [ "$(grep -c . "$work/$name.out")" -ge 3 ] || fail "$name printed $(cat "$work/$name.out")"
-  grep -Ev "$line" "$work/$name.out" && fail "$name printed a line not in the format above"
-  awk -v name="$name" '{ gsub(/[(),]/, " "); z = $5; c = $NF;
+  grep -E "$change" "$work/$name.out" >"$work/$name.changes" || true
+  grep -Ev "$change" "$work/$name.out" >"$work/$name.lines" || true
+  [ "$(grep -c . "$work/$name.lines")" -ge 3 ] || fail "$name printed $(cat "$work/$name.out")"
+  grep -Ev "$line" "$work/$name.lines" && fail "$name printed a line not in the format above"
+  # The first line of each track comes after its announcement, and says the announced state.
+  awk '/ -> / { split($2, id, ":"); told[id[1]] = $NF; next }
+       $2 != "#-1" && !($2 in told) { print "no NEW -> line before: " $0; exit 1 }
+       $2 != "#-1" && told[$2] != $3 { print "state " $3 " was not announced: " $0; exit 1 }' \
+    "$work/$name.out" || fail "$name: a track state not announced"
+  awk -v name="$name" '{ gsub(/[(),]/, " "); z = $7; c = $NF;
     if (z < 0.3 || z > 3 || c < 0 || c > 1) { print name ": " $0; exit 1 } }' \
-    "$work/$name.out" || fail "$name: a centroid or confidence out of range"
+    "$work/$name.lines" || fail "$name: a centroid or confidence out of range"
 done
 # The same place in every language: each client's mean centroid within 1 cm of the others'.
-awk '{ gsub(/[(),]/, " "); n[FILENAME]++; x[FILENAME] += $3; y[FILENAME] += $4; z[FILENAME] += $5 }
+awk '{ gsub(/[(),]/, " "); n[FILENAME]++; x[FILENAME] += $5; y[FILENAME] += $6; z[FILENAME] += $7 }
      END { for (f in n) { mx[f] = x[f] / n[f]; my[f] = y[f] / n[f]; mz[f] = z[f] / n[f] }
            for (a in n) for (b in n) {
              d = sqrt((mx[a]-mx[b])^2 + (my[a]-my[b])^2 + (mz[a]-mz[b])^2)
              if (d > 0.01) { print a " and " b " differ by " d " m"; exit 1 } } }' \
-  "$work"/cpp.out "$work"/python.out "$work"/java.out "$work"/lua.out ||
+  "$work"/cpp.lines "$work"/python.lines "$work"/java.lines "$work"/lua.lines ||
   fail "the languages decode different places"
 
 # The Python log reader against lcm-logger's file: as many instances as saccade detections.
