@@ -37,6 +37,8 @@ namespace {
 struct Tally {
   int frames = 0, processed = 0, visible = 0, within = 0, wrong = 0, recognized = 0;
   int reappearances = 0, never_reacquired = 0, max_reacquire = 0;
+  // Each time an object goes out of sight: processed frames it was still held, the most.
+  int disappearances = 0, max_held_after_gone = 0;
   LatencyHistogram track_ms, recognize_ms, frame_ms;
   /// Frames that came while every track was held (none lost or searching): the cost of
   /// tracking with its re-checks, without the searches.
@@ -78,6 +80,8 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       .Value("symmetry", "cube",
              "the target looks the same turned onto any of its frame's axes: its rotation "
              "error is the least over those turns")
+      .Value("frames", "N",
+             "stop after N frames (a looped source, loop=1, makes a long run of a short one)")
       .Switch("fovea-on-truth",
               "no tracker: every frame recognized alone with the fovea on the target's true "
               "centroid (recognition as a perfect attention would aim it; nothing dropped)");
@@ -99,6 +103,11 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
                  "--rate, --tolerance-cm, --tolerance-deg and --wrong-cm expect numbers > 0");
   if (args.Has("symmetry") && args.Get("symmetry") != "cube")
     return Usage(err, "bench-track", "--symmetry knows cube only");
+  std::optional<int> max_frames;
+  if (args.Has("frames")) {
+    max_frames = Args::ParsePositiveInt(args.Get("frames"));
+    if (!max_frames) return Usage(err, "bench-track", "--frames expects a positive integer");
+  }
   std::map<int, Eigen::Isometry3f> truth_table;
   if (args.Has("truth") && !ReadPoseTable(args.Get("truth"), &truth_table, &error)) {
     err << "saccade bench-track: " << error << "\n";
@@ -250,7 +259,7 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
   double busy_until_s = 0;  // the simulated clock: when the tracker is free again
   std::optional<std::pair<Frame, std::size_t>> pending;  // arrived while it was busy
   Frame frame;
-  for (std::size_t i = 0;; ++i) {
+  for (std::size_t i = 0; !max_frames || i < std::size_t(*max_frames); ++i) {
     const FrameSource::Status st = source->Next(&frame, &error);
     if (st == FrameSource::Status::kError) {
       err << "saccade bench-track: " << error << "\n";
@@ -350,6 +359,30 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       t.max_reacquire = std::max(t.max_reacquire, since_appeared);
     }
   }
+  // Gone from sight (its truth's visible share under 0.2): processed frames an object was still
+  // held (an actionable instance of its model) before its track let go: LOST is raised when it
+  // is 0 or 1. Held through to its return or the end counts every frame it was gone.
+  for (std::size_t j = 0; j < objects; ++j) {
+    bool was_visible = false;
+    int held = -1;  // since it went: frames held, -1 when let go or visible
+    for (const Outcome& o : outcomes) {
+      const ObjectOutcome& oo = o.objects[j];
+      if (!oo.visible && was_visible) ++t.disappearances, held = 0;
+      was_visible = oo.visible;
+      if (oo.visible || held < 0 || !o.processed) {
+        if (oo.visible && held >= 0) t.max_held_after_gone = std::max(t.max_held_after_gone, held);
+        if (oo.visible) held = -1;
+        continue;
+      }
+      if (oo.error_cm >= 0) {
+        ++held;
+      } else {
+        t.max_held_after_gone = std::max(t.max_held_after_gone, held);
+        held = -1;
+      }
+    }
+    if (held >= 0) t.max_held_after_gone = std::max(t.max_held_after_gone, held);
+  }
   // The target's error in its visible frames where a pose was held.
   std::vector<double> error_cm, error_deg;
   for (const Outcome& o : outcomes)
@@ -357,6 +390,12 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       error_cm.push_back(o.objects[0].error_cm);
       error_deg.push_back(o.objects[0].error_deg);
     }
+  // Drift: its error in the first and the last tenth of those frames (a long run's ends).
+  const std::size_t tenth = std::max<std::size_t>(1, error_cm.size() / 10);
+  const std::vector<double> first_tenth(error_cm.begin(),
+                                        error_cm.begin() + long(std::min(tenth, error_cm.size())));
+  const std::vector<double> last_tenth(error_cm.end() - long(std::min(tenth, error_cm.size())),
+                                       error_cm.end());
   // Its error frame to frame: between two frames in a row that both held it, how far its
   // motion (centroid shift, turn) differs from the truth's. A truth with a slowly varying
   // error of its own (a tag board's) cancels out of it; a symmetric object's turn too.
@@ -423,6 +462,14 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       .Value(Quantile(step_deg, 0.5))
       .Key("step_error_deg_p90")
       .Value(Quantile(step_deg, 0.9))
+      .Key("error_cm_p50_first_tenth")
+      .Value(Quantile(first_tenth, 0.5))
+      .Key("error_cm_p50_last_tenth")
+      .Value(Quantile(last_tenth, 0.5))
+      .Key("disappearances")
+      .Value(t.disappearances)
+      .Key("max_frames_held_after_gone")
+      .Value(t.max_held_after_gone)
       .Key("wrong_object_frames")
       .Value(t.wrong)
       .Key("recognized_frames")
