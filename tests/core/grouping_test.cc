@@ -2,6 +2,7 @@
 // consensus among random matches, too few votes.
 #include "core/grouping.h"
 
+#include "core/eval/pose_scoring.h"
 #include "core/recognition.h"
 #include "support/shapes.h"
 
@@ -100,13 +101,7 @@ TEST(ConsensusGroup, FindsThePoseTheAgreeingFramesGiveAmongRandomMatches) {
 // A cube's 24 turns onto itself about its centre, its frame's axes onto each other.
 std::vector<Eigen::Matrix3f> CubeTurns() {
   std::vector<Eigen::Matrix3f> out;
-  const int perm[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {1, 0, 2}, {0, 2, 1}, {2, 1, 0}};
-  for (const auto& p : perm)
-    for (int signs = 0; signs < 8; ++signs) {
-      Eigen::Matrix3f m = Eigen::Matrix3f::Zero();
-      for (int r = 0; r < 3; ++r) m(r, p[r]) = (signs >> r & 1) ? -1.0f : 1.0f;
-      if (m.determinant() > 0) out.push_back(m);
-    }
+  for (const Eigen::Matrix4f& m : CubeRotations()) out.push_back(m.topLeftCorner<3, 3>());
   return out;
 }
 

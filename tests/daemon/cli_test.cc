@@ -40,6 +40,12 @@ CliRun Saccade(const std::string& args, const std::string& env_prefix = "") {
   return r;
 }
 
+// The number after "key": in a command's JSON output; -1 when the key is not there.
+double JsonNumber(const std::string& out, const std::string& key) {
+  const auto at = out.find("\"" + key + "\":");
+  return at == std::string::npos ? -1.0 : std::atof(out.c_str() + at + key.size() + 3);
+}
+
 int Lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 std::string WriteFile(const std::string& name, const std::string& text) {
@@ -1012,10 +1018,7 @@ TEST(Cli, BenchTrackScoresTheVispCubeAgainstItsTruthTable) {
                              "/cube.pcd --rate 0.001 --tolerance-cm 2 --tolerance-deg 5 ";
   const CliRun r = Saccade(common + "--truth " + truth + " --model-from-frame 0 --symmetry cube");
   ASSERT_EQ(r.code, 0) << r.out;
-  const auto number = [&](const std::string& key) {
-    const auto at = r.out.find("\"" + key + "\":");
-    return at == std::string::npos ? -1.0 : std::atof(r.out.c_str() + at + key.size() + 3);
-  };
+  const auto number = [&](const std::string& key) { return JsonNumber(r.out, key); };
   EXPECT_EQ(number("visible_frames"), 99) << r.out;
   EXPECT_GE(number("tracked_frames"), 50) << r.out;  // 64 today, at 30 Hz as at any rate
   EXPECT_LE(number("wrong_object_frames"), 2) << r.out;
@@ -1059,10 +1062,7 @@ TEST(Cli, BenchTrackFindsTheVispCubeFromItsMeshWithTheFoveaOnIt) {
       model + " --truth " + saccade::testing::DataPath("visp_rbt/truth_cube.csv") +
       " --symmetry cube --tolerance-cm 2 --tolerance-deg 5 --fovea-on-truth");
   ASSERT_EQ(r.code, 0) << r.out;
-  const auto number = [&](const std::string& key) {
-    const auto at = r.out.find("\"" + key + "\":");
-    return at == std::string::npos ? -1.0 : std::atof(r.out.c_str() + at + key.size() + 3);
-  };
+  const auto number = [&](const std::string& key) { return JsonNumber(r.out, key); };
   EXPECT_EQ(number("dropped_at_30hz"), 0) << r.out;
   EXPECT_EQ(number("recognized_frames"), 99) << r.out;
   EXPECT_GE(number("target_frames_with_pose"), 95) << r.out;
@@ -1077,10 +1077,7 @@ TEST(Cli, BenchTrackLoopsASequenceAndSaysHowSoonAHiddenTargetIsLetGo) {
       "bench-track --source 'synthetic:occluded?rate=0&loop=1' --frames 120 --model "
       "synthetic:target --rate 0.001");
   ASSERT_EQ(r.code, 0) << r.out;
-  const auto number = [&](const std::string& key) {
-    const auto at = r.out.find("\"" + key + "\":");
-    return at == std::string::npos ? -1.0 : std::atof(r.out.c_str() + at + key.size() + 3);
-  };
+  const auto number = [&](const std::string& key) { return JsonNumber(r.out, key); };
   EXPECT_EQ(number("frames_at_30hz"), 120) << r.out;
   EXPECT_EQ(number("disappearances"), 2) << r.out;
   EXPECT_LE(number("max_frames_held_after_gone"), 1) << r.out;
