@@ -56,8 +56,6 @@ class PointHash {
   std::unordered_map<std::uint64_t, std::vector<int>> cells_;
 };
 
-// Aligns `turn` (about the origin) so that the turned samples meet the surface, then scores it:
-// the share of samples within `tolerance_m` of a surface point.
 // A quaternion's bin, each component in -10..10.
 std::uint32_t Pack4(const Eigen::Vector4i& b) {
   std::uint32_t key = 0;
@@ -65,6 +63,8 @@ std::uint32_t Pack4(const Eigen::Vector4i& b) {
   return key;
 }
 
+// Aligns `turn` (about the origin) so that the turned samples meet the surface, then scores it:
+// the share of samples within `tolerance_m` of a surface point.
 float RefineAndScore(const std::vector<Eigen::Vector3f>& samples, const PointHash& surface,
                      float tolerance_m, Eigen::Matrix3f* turn) {
   constexpr int kRounds = 8;  // pairing within 3 tolerances at first, within one at the end
@@ -91,30 +91,16 @@ float RefineAndScore(const std::vector<Eigen::Vector3f>& samples, const PointHas
   return float(near) / float(samples.size());
 }
 
-}  // namespace
-
-float RotationAngle(const Eigen::Matrix3f& r) {
-  return std::acos(std::clamp((r.trace() - 1.0f) / 2.0f, -1.0f, 1.0f));
-}
-
-std::vector<Eigen::Matrix3f> FindSymmetries(const Cloud& surface, const Eigen::Vector3f& centre,
-                                            const Descriptors& descriptors,
-                                            const SymmetryOptions& options) {
-  std::vector<Eigen::Matrix3f> out{Eigen::Matrix3f::Identity()};
-  std::vector<Eigen::Vector3f> points;
-  for (const PointT& p : surface.points)
-    if (FinitePoint(p)) points.push_back(p.getVector3fMap() - centre);
-  if (points.size() < 3 || descriptors.size() < 2) return out;
-  std::vector<Eigen::Vector3f> samples;
-  const std::size_t sample_step = std::max<std::size_t>(1, points.size() / 300);
-  for (std::size_t i = 0; i < points.size(); i += sample_step) samples.push_back(points[i]);
-  const PointHash hash(std::move(points), 3 * options.tolerance_m);
-
-  // Candidates: keypoints alike, each turn proposed by their frames, counted when alike again.
+// Turns about `centre` proposed by keypoints alike (near descriptors, as far from the centre,
+// apart): the turn their local frames give, binned by its quaternion (w >= 0, steps of 0.1, about
+// 11 degrees); each bin with how many pairs proposed it, the most first.
+std::vector<std::pair<Eigen::Matrix3f, int>> ProposeTurns(const Cloud& surface,
+                                                          const Eigen::Vector3f& centre,
+                                                          const Descriptors& descriptors,
+                                                          const SymmetryOptions& options) {
   const std::size_t step = std::max<std::size_t>(1, descriptors.size() / 400);
   std::vector<std::size_t> picked;
   for (std::size_t i = 0; i < descriptors.size(); i += step) picked.push_back(i);
-  // Turns binned by their quaternion (w >= 0) in steps of 0.1 (about 11 degrees).
   std::unordered_map<std::uint32_t, std::pair<Eigen::Matrix3f, int>> bins;
   for (std::size_t a : picked) {
     const Eigen::Vector3f ra =
@@ -150,6 +136,30 @@ std::vector<Eigen::Matrix3f> FindSymmetries(const Cloud& surface, const Eigen::V
                                 : std::make_tuple(x.first(0, 0), x.first(0, 1), x.first(1, 0)) <
                                       std::make_tuple(y.first(0, 0), y.first(0, 1), y.first(1, 0));
   });
+  return candidates;
+}
+
+}  // namespace
+
+float RotationAngle(const Eigen::Matrix3f& r) {
+  return std::acos(std::clamp((r.trace() - 1.0f) / 2.0f, -1.0f, 1.0f));
+}
+
+std::vector<Eigen::Matrix3f> FindSymmetries(const Cloud& surface, const Eigen::Vector3f& centre,
+                                            const Descriptors& descriptors,
+                                            const SymmetryOptions& options) {
+  std::vector<Eigen::Matrix3f> out{Eigen::Matrix3f::Identity()};
+  std::vector<Eigen::Vector3f> points;
+  for (const PointT& p : surface.points)
+    if (FinitePoint(p)) points.push_back(p.getVector3fMap() - centre);
+  if (points.size() < 3 || descriptors.size() < 2) return out;
+  std::vector<Eigen::Vector3f> samples;
+  const std::size_t sample_step = std::max<std::size_t>(1, points.size() / 300);
+  for (std::size_t i = 0; i < points.size(); i += sample_step) samples.push_back(points[i]);
+  const PointHash hash(std::move(points), 3 * options.tolerance_m);
+
+  std::vector<std::pair<Eigen::Matrix3f, int>> candidates =
+      ProposeTurns(surface, centre, descriptors, options);
   if (candidates.size() > 200) candidates.resize(200);
   for (auto& [turn, count] : candidates) {
     if (int(out.size()) >= options.max_turns) break;
