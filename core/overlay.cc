@@ -202,8 +202,9 @@ OrientedBox FitOrientedBox(const std::vector<Eigen::Vector3f>& points) {
   return box;
 }
 
-RgbCanvas SceneImage(const Cloud& scene, const CameraIntrinsics& camera, int step) {
-  const bool coloured = HasColour(scene);
+RgbCanvas SceneImage(const Cloud& scene, const CameraIntrinsics& camera, int step,
+                     std::optional<bool> has_colour) {
+  const bool coloured = has_colour ? *has_colour : HasColour(scene);
   float near_m = std::numeric_limits<float>::max(), far_m = 0;
   for (const PointT& p : scene.points)
     if (FinitePoint(p) && p.z > 0) near_m = std::min(near_m, p.z), far_m = std::max(far_m, p.z);

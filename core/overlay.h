@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,9 +67,11 @@ OrientedBox FitOrientedBox(const std::vector<Eigen::Vector3f>& points);
 /// `camera` (the nearest point wins a pixel) onto a black image of camera.width x height. A
 /// cloud without colour (HasColour) is shaded by depth instead (near is bright). `step` > 1 keeps
 /// every step-th pixel of an organized cloud each way (pixel (u, v) is the cloud's
-/// (u step, v step)); an unorganized cloud is always drawn whole.
+/// (u step, v step)); an unorganized cloud is always drawn whole. `coloured`: HasColour(scene),
+/// when the caller has it already (it reads every point).
 RgbCanvas SceneImage(const pcl::PointCloud<pcl::PointXYZRGBA>& scene,
-                     const CameraIntrinsics& camera, int step = 1);
+                     const CameraIntrinsics& camera, int step = 1,
+                     std::optional<bool> coloured = std::nullopt);
 
 /// A model as a picture: its finite points seen from `panels` viewpoints around its centre (each
 /// a square panel of `panel_px`, side by side on white: turned about the camera frame's vertical

@@ -67,7 +67,7 @@ Preview MakePreview(const Cloud& scene, const CameraIntrinsics& intrinsics,
     p.intrinsics.cx = intrinsics.cx / step;
     p.intrinsics.cy = intrinsics.cy / step;
     p.colour = HasColour(scene);
-    p.rgb = SceneImage(scene, intrinsics, step).data;
+    p.rgb = SceneImage(scene, intrinsics, step, p.colour).data;
   }
 
   // The foveated cloud's points, each with its level, thinned evenly over the image.
