@@ -11,6 +11,7 @@
 #include "io/log.h"
 
 #include <signal.h>
+#include <unistd.h>
 #include <csignal>
 
 #include <algorithm>
@@ -62,6 +63,11 @@ bool LoadSettings(const saccade::Args& args, saccade::DaemonSettings* settings,
     return saccade::Fail(error, "no model: set 'model' in the config file or pass --model");
   }
   if (!s.IsValid(error)) return false;
+  // A person at a terminal sees a line a second; a service's log and a pipe do not.
+  if (s.service.summary == saccade::ServiceOptions::Summary::kAuto)
+    s.service.summary = isatty(STDOUT_FILENO) && !args.Has("quiet")
+                            ? saccade::ServiceOptions::Summary::kLine
+                            : saccade::ServiceOptions::Summary::kOff;
   *settings = s;
   return true;
 }
@@ -81,6 +87,7 @@ int main(int argc, char** argv) {
              "record --help; docs/SOURCES.md)")
       .Value("model", "M.pcd", "the object's model, over the file's 'model'")
       .Value("lcm-url", "URL", "the LCM network, over the file's 'lcm.url'")
+      .Switch("quiet", "no status line a second on a terminal (service.summary: auto)")
       .Footer(kFooter);
   if (auto code = args.Parse(argv_list, std::cout, std::cerr)) return *code;
   std::string error;

@@ -54,10 +54,12 @@ struct PipelineOptions {
 
 /// The service's own behaviour (the `service` section).
 struct ServiceOptions {
-  enum class Summary { kOff, kLine };  // line: one human line per status period on stdout
+  // line: one human line per status period on stdout; auto: line when stdout is a terminal
+  // (saccaded decides, and not with --quiet; any other program takes auto as off).
+  enum class Summary { kOff, kLine, kAuto };
   LogLevel log_level = LogLevel::kInfo;
   double status_period_s = 1.0;  // SACCADE_STATUS period, >= 0.05
-  Summary summary = Summary::kOff;
+  Summary summary = Summary::kAuto;
 
   bool IsValid(std::string* error) const;
   template <typename Archive>
@@ -68,7 +70,8 @@ struct ServiceOptions {
                {"warning", LogLevel::kWarning},
                {"error", LogLevel::kError}});
     a->Visit("status_period_s", &status_period_s);
-    a->Choice("summary", &summary, {{"off", Summary::kOff}, {"line", Summary::kLine}});
+    a->Choice("summary", &summary,
+              {{"off", Summary::kOff}, {"line", Summary::kLine}, {"auto", Summary::kAuto}});
   }
 };
 

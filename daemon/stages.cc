@@ -35,20 +35,35 @@ float BestTruthError(const std::vector<Detection>& instances, const GroundTruth&
   return best;
 }
 
-// The human line of `service.summary: line`: mode, fovea, and the error to the truth when the
-// frame has one (`best`: BestTruthError).
-std::string SummaryLine(const Fixation& next, const std::optional<GroundTruth>& truth, float best) {
-  char line[160];
+// The human line of `service.summary: line`: mode, fovea, and each instance the frame holds (its
+// model's short name, track and state, centroid), then the error to the truth when the frame
+// carries one.
+std::string SummaryLine(const Fixation& next, const FrameDetections& frame,
+                        const std::optional<GroundTruth>& truth, float best) {
+  char part[160];
   const Eigen::Vector3f& p = next.fovea_m;
-  const int n = std::snprintf(line, sizeof line, "%-9s fovea (%+.2f, %+.2f, %+.2f) m  G %.2f m",
-                              ModeName(next.mode), p.x(), p.y(), p.z(), next.growth_m);
-  if (!truth || n <= 0 || n >= static_cast<int>(sizeof line)) return line;
+  std::snprintf(part, sizeof part, "%-9s fovea (%+.2f, %+.2f, %+.2f) m  G %.2f m",
+                ModeName(next.mode), p.x(), p.y(), p.z(), next.growth_m);
+  std::string line = part;
+  for (const Detection& d : frame.instances) {
+    std::string name = d.model >= 0 && std::size_t(d.model) < frame.models.size()
+                           ? frame.models[std::size_t(d.model)]
+                           : "?";
+    name = name.substr(name.find_last_of('/') + 1);  // mug for /var/lib/saccade/models/mug.pcd
+    if (const auto dot = name.find_last_of('.'); dot != std::string::npos && dot > 0)
+      name.resize(dot);
+    const Eigen::Vector3f& c = d.centroid_m;
+    std::snprintf(part, sizeof part, "  | %.40s #%d %s (%+.2f, %+.2f, %+.2f)", name.c_str(),
+                  d.track_id, TrackStateName(d.track_state), c.x(), c.y(), c.z());
+    line += part;
+  }
+  if (!truth) return line;
   if (truth->visible_fraction < kVisibleFraction)
-    std::snprintf(line + n, sizeof line - n, "  target hidden");
+    line += "  target hidden";
   else if (best < 0)
-    std::snprintf(line + n, sizeof line - n, "  target not found");
+    line += "  target not found";
   else
-    std::snprintf(line + n, sizeof line - n, "  error %.1f cm", best * 100);
+    std::snprintf(part, sizeof part, "  error %.1f cm", best * 100), line += part;
   return line;
 }
 
@@ -322,7 +337,7 @@ void PublishStage::Process(Job* job) {
   const auto& truth = job->frame.truth;
   const float best = truth ? BestTruthError(frame.instances, *truth) : -1;
   const bool visible = truth && truth->visible_fraction >= kVisibleFraction;
-  const std::string summary = summary_line_ ? SummaryLine(job->next, truth, best) : "";
+  const std::string summary = summary_line_ ? SummaryLine(job->next, frame, truth, best) : "";
 
   std::lock_guard<std::mutex> lock(mutex_);
   recognize_.Add(frame.recognize_ms);

@@ -510,6 +510,10 @@ TEST(Saccaded, AModelFileRemovedBeforeAReloadKeepsTheLoadedModelTracking) {
   }));
   EXPECT_EQ(tracking, 30);
 
+  // The status line a second names the instance by its model's short name, track and state.
+  EXPECT_NE(ReadFile(box.Path("out")).find("| target #0 TRACKING ("), std::string::npos)
+      << ReadFile(box.Path("out"));
+
   fs::rename(kept, model);
   daemon.Signal(SIGHUP);
   EXPECT_TRUE(WaitFor(
