@@ -46,12 +46,9 @@ std::string SummaryLine(const Fixation& next, const FrameDetections& frame,
                 ModeName(next.mode), p.x(), p.y(), p.z(), next.growth_m);
   std::string line = part;
   for (const Detection& d : frame.instances) {
-    std::string name = d.model >= 0 && std::size_t(d.model) < frame.models.size()
-                           ? frame.models[std::size_t(d.model)]
-                           : "?";
-    name = name.substr(name.find_last_of('/') + 1);  // mug for /var/lib/saccade/models/mug.pcd
-    if (const auto dot = name.find_last_of('.'); dot != std::string::npos && dot > 0)
-      name.resize(dot);
+    const std::string name = d.model >= 0 && std::size_t(d.model) < frame.models.size()
+                                 ? ModelShortName(frame.models[std::size_t(d.model)])
+                                 : "?";
     const Eigen::Vector3f& c = d.centroid_m;
     std::snprintf(part, sizeof part, "  | %.40s #%d %s (%+.2f, %+.2f, %+.2f)", name.c_str(),
                   d.track_id, TrackStateName(d.track_state), c.x(), c.y(), c.z());

@@ -287,6 +287,11 @@ std::optional<std::vector<Cloud>> LoadModelViews(const std::string& spec, std::s
   return views;
 }
 
+std::string ModelShortName(const std::string& spec) {
+  const std::string stem = std::filesystem::path(spec).stem().string();
+  return stem.empty() ? spec : stem;
+}
+
 std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error) {
   for (const std::string name : {"target", "ball"}) {
     const std::string prefix = "synthetic:" + name;

@@ -30,6 +30,10 @@ std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::str
 /// Errors as LoadCloud.
 std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error);
 
+/// A model's short name for people: its file name without folder and extension (mug for
+/// /var/lib/saccade/models/mug.pcd); a spec without either (synthetic:target) as it is.
+std::string ModelShortName(const std::string& spec);
+
 /// Writes `bytes` to `path` whole or not at all: beside it (PATH.part), then renamed into it, so
 /// that a full disk or a failed write leaves no half file where a reader would take it for a
 /// whole one; false with "PATH: cannot write it (reason)".

@@ -8,7 +8,6 @@
 #include "io/cloud_io.h"
 #include "io/json.h"
 
-#include <filesystem>
 #include <iomanip>
 #include <memory>
 #include <ostream>
@@ -49,7 +48,7 @@ int RecognizeLibraryCommand(const std::vector<std::string>& specs, const Cloud& 
     }
     models.push_back(std::make_unique<ModelDescription>(std::move(*d)));
     library_models.push_back(models.back().get());
-    names.push_back(std::filesystem::path(spec).stem().string());
+    names.push_back(ModelShortName(spec));
   }
   const Library library(library_models, options);
   std::string error;
