@@ -230,12 +230,15 @@ std::vector<Detection> ConsensusGroup(const Descriptors& model, const Cloud& mod
   }
   // A symmetric model's point c is also each of its turns about the centroid: a match agrees
   // with a pose through whichever turn the pose takes nearest its scene point.
-  std::vector<std::vector<Eigen::Vector3f>> turned{from};
+  // (The identity is `from` itself, not a copy: most models have no other turn.)
+  std::vector<std::vector<Eigen::Vector3f>> others;
   for (std::size_t k = 1; k < turns.size(); ++k) {
-    turned.emplace_back(n);
+    others.emplace_back(n);
     for (std::size_t c = 0; c < n; ++c)
-      turned[k][c] = model_centroid + turns[k] * (from[c] - model_centroid);
+      others.back()[c] = model_centroid + turns[k] * (from[c] - model_centroid);
   }
+  std::vector<const std::vector<Eigen::Vector3f>*> turned{&from};
+  for (const auto& points : others) turned.push_back(&points);
   const float thr2 = options.pose_inlier_threshold_m * options.pose_inlier_threshold_m;
   // The matches that agree with `p`, each as (match, its model point as the pose takes it).
   const auto agreeing = [&](const Eigen::Matrix4f& p) {
@@ -245,9 +248,9 @@ std::vector<Detection> ConsensusGroup(const Descriptors& model, const Cloud& mod
     for (std::size_t c = 0; c < n; ++c) {
       float best = thr2;
       const Eigen::Vector3f* point = nullptr;
-      for (const auto& model_points : turned) {
-        const float d2 = (R * model_points[c] + t - to[c]).squaredNorm();
-        if (d2 <= best) best = d2, point = &model_points[c];
+      for (const std::vector<Eigen::Vector3f>* model_points : turned) {
+        const float d2 = (R * (*model_points)[c] + t - to[c]).squaredNorm();
+        if (d2 <= best) best = d2, point = &(*model_points)[c];
       }
       if (point) members.emplace_back(int(c), *point);
     }

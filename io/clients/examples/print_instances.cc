@@ -17,8 +17,8 @@ std::string ShortName(const std::string& model_name) {
 }
 
 struct Printer {
-  int seen = 0;                          // frames with an instance
-  std::map<int, std::string> states;     // track id -> its last state
+  int seen = 0;                       // frames with an instance
+  std::map<int, std::string> states;  // track id -> its last state
   void On(const lcm::ReceiveBuffer*, const std::string&, const saccade::detections_t* d) {
     for (const saccade::instance_t& i : d->instances) {
       const std::string name = ShortName(i.model_name);
