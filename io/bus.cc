@@ -56,9 +56,11 @@ bool CommandModelAllowed(const std::string& spec, const std::vector<std::string>
 
 namespace {
 
-// command_t's layout: the type's 8-byte hash, utime (8), kind (1), fovea (3 x 8), then the
-// model string as a big-endian int32 length (its bytes with the final NUL) and the bytes.
-constexpr std::size_t kCommandFixedBytes = 8 + 8 + 1 + 24;
+// command_t's layout: the type's 8-byte hash, utime (8), sequence (8), kind (1), fovea (3 x 8),
+// then the model string as a big-endian int32 length (its bytes with the final NUL) and the
+// bytes, then the signature (32).
+constexpr std::size_t kCommandFixedBytes = 8 + 8 + 8 + 1 + 24;
+constexpr std::size_t kSignatureBytes = 32;
 constexpr std::int32_t kMaxModelBytes = 4096;
 
 }  // namespace
@@ -70,7 +72,7 @@ std::optional<Command> DecodeCommand(const void* data, std::size_t size, const B
                                 " bytes that do not decode as saccade.command_t";
   // lcm-gen's decoder trusts the string's length (0 or negative crash it): check the layout
   // before it runs.
-  if (size < kCommandFixedBytes + 4 + 1) {
+  if (size < kCommandFixedBytes + 4 + 1 + kSignatureBytes) {
     Fail(why, malformed + ": too short)");
     return std::nullopt;
   }
@@ -79,8 +81,8 @@ std::optional<Command> DecodeCommand(const void* data, std::size_t size, const B
     model_bytes = static_cast<std::int32_t>((static_cast<std::uint32_t>(model_bytes) << 8) |
                                             bytes[kCommandFixedBytes + i]);
   if (model_bytes < 1 || model_bytes > kMaxModelBytes ||
-      size != kCommandFixedBytes + 4 + static_cast<std::size_t>(model_bytes) ||
-      bytes[size - 1] != 0) {
+      size != kCommandFixedBytes + 4 + static_cast<std::size_t>(model_bytes) + kSignatureBytes ||
+      bytes[size - kSignatureBytes - 1] != 0) {
     Fail(why, malformed + ": its model string's length is wrong)");
     return std::nullopt;
   }
@@ -161,8 +163,8 @@ void Copy3(const Vec& v, double out[3]) {
 
 class LcmBus : public Bus {
  public:
-  LcmBus(const BusOptions& options, std::unique_ptr<lcm::LCM> lcm)
-      : options_(options), lcm_(std::move(lcm)) {
+  LcmBus(const BusOptions& options, BusOptions::Commands mode, std::unique_ptr<lcm::LCM> lcm)
+      : options_(options), mode_(mode), lcm_(std::move(lcm)) {
     frame_name_ = options_.robot.enabled ? options_.robot.name : "camera";
     detections_channel_ = DetectionsChannel(options_.channel_prefix);
     fixation_channel_ = FixationChannel(options_.channel_prefix);
@@ -178,8 +180,11 @@ class LcmBus : public Bus {
     return Fail(error, "cannot create the command thread's wake pipe");
   }
 
+  // With commands signed, the gate every command passes first.
+  void Guard(std::unique_ptr<CommandGate> gate) { gate_ = std::move(gate); }
+
   void Subscribe(CommandHandler handler) override {
-    if (!options_.commands || receiver_.joinable()) return;
+    if (mode_ == BusOptions::Commands::kOff || receiver_.joinable()) return;
     on_command_ = std::move(handler);
     lcm_->subscribe(CommandChannel(options_.channel_prefix), &LcmBus::OnCommand, this);
     receiver_ = std::thread([this] { Receive(); });
@@ -298,8 +303,13 @@ class LcmBus : public Bus {
   std::int64_t RejectedCommands() const override { return rejected_; }
 
   std::string Describe() const override {
-    return options_.url + " (channels " + options_.channel_prefix + "_*, commands " +
-           (options_.commands ? "on" : "off") + ")";
+    std::string commands = "off";
+    if (mode_ == BusOptions::Commands::kSigned)
+      commands = "signed with " + options_.command_key;
+    else if (mode_ == BusOptions::Commands::kOpen)
+      commands = "open to this host";
+    return options_.url + " (channels " + options_.channel_prefix + "_*, commands " + commands +
+           ")";
   }
 
  private:
@@ -331,6 +341,8 @@ class LcmBus : public Bus {
 
   void OnCommand(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
     std::string why;
+    // The signature first: nothing of an unsigned command is read.
+    if (gate_ && !gate_->Admit(rbuf->data, rbuf->data_size, &why)) return Reject(why);
     const std::optional<Command> c =
         DecodeCommand(rbuf->data, rbuf->data_size, options_, X_RC_, &why);
     if (!c) return Reject(why);
@@ -343,6 +355,8 @@ class LcmBus : public Bus {
   }
 
   const BusOptions options_;
+  const BusOptions::Commands mode_;
+  std::unique_ptr<CommandGate> gate_;
   std::unique_ptr<lcm::LCM> lcm_;
   std::string frame_name_;
   std::string detections_channel_, fixation_channel_, status_channel_, preview_channel_;
@@ -367,8 +381,41 @@ bool RobotFrameOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// The multicast TTL of an LCM URL: udpm's ttl option (liblcm's default 0); 0 for a provider that
+// never leaves the host (memq://, file://).
+int UrlTtl(const std::string& url) {
+  if (url.rfind("udpm://", 0) != 0 && url.rfind("udp://", 0) != 0) return 0;
+  const std::size_t query = url.find('?');
+  if (query == std::string::npos) return 0;
+  std::size_t at = query + 1;
+  while (at < url.size()) {
+    const std::size_t end = std::min(url.find('&', at), url.size());
+    const std::string option = url.substr(at, end - at);
+    if (option.rfind("ttl=", 0) == 0) return std::atoi(option.c_str() + 4);
+    at = end + 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+BusOptions::Commands BusOptions::Resolved() const {
+  if (commands != Commands::kAuto) return commands;
+  if (PathExists(command_key)) return Commands::kSigned;
+  return UrlTtl(url) == 0 ? Commands::kOpen : Commands::kOff;
+}
+
 bool BusOptions::IsValid(std::string* error) const {
   if (url.empty()) return Fail(error, "url must not be empty");
+  if (commands == Commands::kOpen && UrlTtl(url) != 0)
+    return Fail(error, "commands: open lets anyone the network reaches command saccaded; it is "
+                       "allowed only with ttl=0 in the url (make a key with saccade keygen and "
+                       "use signed)");
+  if (command_key.empty()) return Fail(error, "command_key must not be empty");
+  if (!(command_max_age_s > 0 && command_max_age_s <= 3600))
+    return Fail(error, "command_max_age_s must be in (0, 3600]");
   // LCM refuses channel names of 64 bytes or more, the longest being PREFIX_DETECTIONS.
   if (channel_prefix.empty() || channel_prefix.size() > 52)
     return Fail(error, "channel_prefix must be 1 to 52 characters (LCM channels are under 64)");
@@ -379,8 +426,21 @@ bool BusOptions::IsValid(std::string* error) const {
 std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error) {
   std::unique_ptr<lcm::LCM> lcm = OpenLcm(options.url, error);
   if (!lcm) return nullptr;
-  auto bus = std::make_unique<LcmBus>(options, std::move(lcm));
-  if (options.commands && !bus->MakeWakePipe(error)) return nullptr;
+  const BusOptions::Commands mode = options.Resolved();
+  auto bus = std::make_unique<LcmBus>(options, mode, std::move(lcm));
+  if (mode == BusOptions::Commands::kOff) {
+    if (options.commands == BusOptions::Commands::kAuto)
+      Log(LogLevel::kWarning, "commands are off: no key at " + options.command_key +
+                                  " and the LCM url reaches beyond this host (ttl > 0); "
+                                  "saccade keygen makes one (docs/LCM.md)");
+    return bus;
+  }
+  if (mode == BusOptions::Commands::kSigned) {
+    Digest key{};
+    if (!ReadCommandKey(options.command_key, &key, error)) return nullptr;
+    bus->Guard(std::make_unique<CommandGate>(key, options.command_max_age_s, WallUtime));
+  }
+  if (!bus->MakeWakePipe(error)) return nullptr;
   return bus;
 }
 

@@ -8,6 +8,7 @@
 #include "core/preview.h"
 #include "core/schema.h"
 #include "core/types.h"
+#include "io/command_key.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -78,9 +79,16 @@ struct RobotFrameOptions {
 };
 
 struct BusOptions {
+  /// Who may command saccaded on PREFIX_COMMAND. kSigned: only commands signed with the key
+  /// (io/command_key.h); kOpen: anyone who can reach the LCM group, so only with ttl=0;
+  /// kAuto: signed when the key file exists, else open with ttl=0, else off.
+  enum class Commands { kAuto, kOff, kSigned, kOpen };
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
   std::string channel_prefix = "SACCADE";  // channels are PREFIX_DETECTIONS, PREFIX_FIXATION, ...
-  bool commands = true;                    // subscribe to PREFIX_COMMAND
+  Commands commands = Commands::kAuto;
+  std::string command_key = kDefaultCommandKeyPath;
+  /// A signed command stamped further than this from the daemon's clock is refused, seconds.
+  double command_max_age_s = 30.0;
   /// A SET_FOVEA farther than this from the camera is out of range, metres.
   float max_fovea_distance_m = 10.0f;
   /// SWITCH_MODEL loads only regular files under these folders (or synthetic:target); empty:
@@ -88,6 +96,8 @@ struct BusOptions {
   std::vector<std::string> model_dirs;
   RobotFrameOptions robot;
 
+  /// The mode `kAuto` comes to on this machine (whether the key file exists); else `commands`.
+  Commands Resolved() const;
   bool IsValid(std::string* error) const;
   bool operator==(const BusOptions& o) const { return SameFields(*this, o) && robot == o.robot; }
   bool operator!=(const BusOptions& o) const { return !(*this == o); }
@@ -96,7 +106,16 @@ struct BusOptions {
   void Serialize(Archive* a) {
     a->Visit("url", &url);
     a->Visit("channel_prefix", &channel_prefix);
-    a->Visit("commands", &commands);
+    // true and false: the older spelling (subscribe or not).
+    a->Choice("commands", &commands,
+              {{"auto", Commands::kAuto},
+               {"off", Commands::kOff},
+               {"signed", Commands::kSigned},
+               {"open", Commands::kOpen},
+               {"true", Commands::kAuto},
+               {"false", Commands::kOff}});
+    a->Visit("command_key", &command_key);
+    a->Visit("command_max_age_s", &command_max_age_s);
     a->Visit("max_fovea_distance_m", &max_fovea_distance_m);
     a->Visit("model_dirs", &model_dirs);
   }

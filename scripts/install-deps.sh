@@ -11,8 +11,8 @@ packages=(
   liblcm-dev liblcm-bin libglib2.0-dev
   libtbb-dev libyaml-cpp-dev libopencv-contrib-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libtiff-dev
-  libcli11-dev libsystemd-dev
-  liblcm-java liblcm-lua lua5.2 default-jdk-headless python3 libjchart2d-java
+  libcli11-dev libsystemd-dev libssl-dev
+  liblcm-java liblcm-lua lua5.2 lua-luaossl default-jdk-headless python3 libjchart2d-java
   gnuplot-nox
   libcpp-httplib-dev libjpeg-dev zlib1g-dev chromium
 )

@@ -30,6 +30,9 @@ int RunModel(const std::vector<std::string>& args, std::ostream& out, std::ostre
 int RunSegment(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 /// saccade labels: each label of a labelled scene, its points, centroid and extent.
 int RunLabels(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+/// saccade keygen: the key that signs commands; saccade command: one command to saccaded.
+int RunKeygen(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+int RunSendCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunEval(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunBenchTrack(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunDemo(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);

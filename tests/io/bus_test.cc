@@ -45,7 +45,7 @@ bool Until(Done received, const std::function<void()>& send) {
 TEST(LcmBus, PublishesPosesInTheRobotFrameWhenAsked) {
   BusOptions options;
   options.url = TestUrl();
-  options.commands = false;
+  options.commands = saccade::BusOptions::Commands::kOff;
   options.robot.enabled = true;
   options.robot.name = "base_link";
   options.robot.translation_m = Eigen::Vector3f(0.1f, 0.0f, 0.5f);

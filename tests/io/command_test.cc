@@ -62,24 +62,24 @@ TEST(DecodeCommand, EveryMalformedMessageIsRefusedWithOneLine) {
   std::vector<std::pair<std::string, std::vector<std::uint8_t>>> corpus;
   corpus.push_back({"empty", {}});
   corpus.push_back({"one byte", {0x42}});
-  for (std::size_t cut : {8u, 16u, 40u, 44u, 45u, 50u})
+  for (std::size_t cut : {8u, 16u, 24u, 48u, 49u, 53u, 58u})
     corpus.push_back({"cut at " + std::to_string(cut), {good.begin(), good.begin() + cut}});
   corpus.push_back({"one byte more", good});
   corpus.back().second.push_back(0);
   for (const std::uint32_t length :
        {0u, 1u, 2u, 0xffffffffu, 0x80000000u, 0x7fffffffu, 4097u, 100000u}) {
     std::vector<std::uint8_t> lie = good;
-    for (int i = 0; i < 4; ++i) lie[41 + i] = static_cast<std::uint8_t>(length >> (24 - 8 * i));
+    for (int i = 0; i < 4; ++i) lie[49 + i] = static_cast<std::uint8_t>(length >> (24 - 8 * i));
     corpus.push_back({"model length " + std::to_string(length), lie});
   }
   std::vector<std::uint8_t> no_nul = good;
-  no_nul.back() = 'x';
+  no_nul[no_nul.size() - 33] = 'x';  // the string's NUL, before the 32-byte signature
   corpus.push_back({"no NUL", no_nul});
   std::vector<std::uint8_t> wrong_hash = good;
   wrong_hash[0] ^= 0xff;
   corpus.push_back({"wrong hash", wrong_hash});
   std::vector<std::uint8_t> unknown = Encode(Switch("x"));
-  unknown[16] = 42;  // the kind byte
+  unknown[24] = 42;  // the kind byte
   corpus.push_back({"kind 42", unknown});
   corpus.push_back({"switch to nothing", Encode(Switch(""))});
   for (const double bad : {double(NAN), double(INFINITY), -double(INFINITY), 1e39, 11.0}) {
