@@ -3,8 +3,11 @@
 # Python, Java and Lua examples each print the instances of 3 frames; every line must name the
 # model (its short name), the track's id and state, a centroid in front of the camera and a
 # confidence in [0, 1]; a track's first state is announced once (#N: NEW -> STATE) before its
-# first line; and the four languages must decode the same place (within 1 cm of their mean). Then the Python log reader must read
-# what lcm-logger wrote as saccade detections does.
+# first line; and the four languages must decode the same place (within 1 cm of their mean).
+# saccaded runs with signed commands (a key from saccade keygen): each language's send_command
+# example sends one signed command, all four acted on, and one signed with another key is
+# refused (saccaded's status counts them). Then the Python log reader must read what
+# lcm-logger wrote as saccade detections does.
 #   clients_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$(cd "$1" && pwd)
@@ -19,7 +22,12 @@ fail() { echo "clients test: $*" >&2; exit 1; }
 lcm-logger --lcm-url="$url" -f "$work/run.lcmlog" >"$work/logger.out" 2>&1 &
 logger=$!
 pids+=("$logger")
-"$build/daemon/saccaded" --config "$source_dir/configs/demo.yaml" \
+"$build/daemon/saccade" keygen --out "$work/command.key" >/dev/null
+"$build/daemon/saccade" keygen --out "$work/other.key" >/dev/null
+sed "s|commands: open|commands: signed\n  command_key: \"$work/command.key\"|" \
+  "$source_dir/configs/demo.yaml" >"$work/signed.yaml"
+grep -q "commands: signed" "$work/signed.yaml" || fail "demo.yaml no longer says commands: open"
+"$build/daemon/saccaded" --config "$work/signed.yaml" \
   --source 'synthetic:static?rate=10&loop=1' --lcm-url "$url" >"$work/d.out" 2>"$work/d.err" &
 pids+=("$!")
 
@@ -63,6 +71,36 @@ awk '{ gsub(/[(),]/, " "); n[FILENAME]++; x[FILENAME] += $5; y[FILENAME] += $6; 
   "$work"/cpp.lines "$work"/python.lines "$work"/java.lines "$work"/lua.lines ||
   fail "the languages decode different places"
 
+# Signed commands from each language: four acted on; the one signed with another key refused.
+send() {
+  local name=$1
+  shift
+  timeout 60 "$@" >"$work/$name.send.out" 2>"$work/$name.send.err" ||
+    { cat "$work/$name.send.err"; fail "$name send_command failed"; }
+}
+send cpp "$clients/saccade_send_command" "$url" "$work/command.key" pause
+send python env PYTHONPATH="$clients/python" "$python" "$clients/python/send_command.py" \
+  "$url" "$work/command.key" resume
+send java java -cp "/usr/share/java/lcm.jar:$clients/java/saccade-lcmtypes.jar:$clients/java" \
+  SendCommand "$url" "$work/command.key" fovea 0.1 0.1 1.0
+(cd "$clients/lua" && LUA_PATH="./?.lua;./?/init.lua;;" send lua lua5.2 send_command.lua \
+  "$url" "$work/command.key" reset)
+send other env PYTHONPATH="$clients/python" "$python" "$clients/python/send_command.py" \
+  "$url" "$work/other.key" pause
+# saccaded's status says what it did with them (a deadline, not a timing).
+PYTHONPATH="$clients/python" timeout 60 "$python" - "$url" <<'PY' ||
+import sys
+from saccade import status_t
+from saccade_lcm import Receiver
+for channel, data in Receiver(sys.argv[1]).messages({"SACCADE_STATUS"}):
+    s = status_t.decode(data)
+    if s.commands_accepted == 4 and s.commands_rejected == 1 and not s.paused:
+        break
+PY
+  { cat "$work/d.err"; fail "saccaded did not count 4 signed commands accepted, 1 rejected"; }
+grep -q "command rejected on SACCADE_COMMAND: a wrong signature" "$work/d.err" ||
+  fail "the command signed with another key was not refused as such"
+
 # The Python log reader against lcm-logger's file: as many instances as saccade detections.
 kill -INT "$logger"
 wait "$logger" || true
@@ -79,4 +117,5 @@ PY
 )
 [ "$rows" -gt 0 ] && [ "$instances" = "$rows" ] ||
   fail "Python read $instances instances from the log, saccade detections $rows"
-echo "clients test: C++, Python, Java and Lua printed the same instances; the log held $rows"
+echo "clients test: C++, Python, Java and Lua printed the same instances and sent signed" \
+  "commands (4 accepted, 1 of another key refused); the log held $rows"

@@ -2,6 +2,7 @@
 // Debian's lcm-logger as the subscriber whose log the assertions read.
 #include "core/sim/scenario.h"
 #include "io/cloud_io.h"
+#include "io/command_key.h"
 #include "io/config.h"
 #include "support/processes.h"
 
@@ -732,7 +733,7 @@ TEST(Saccaded, HostileCommandsAreRejectedCountedAndSurvived) {
   valid.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
   for (const std::uint32_t length : {0u, 0xffffffffu, 0x80000000u, 3u, 1000000u}) {
     std::vector<std::uint8_t> lie = bytes;
-    for (int i = 0; i < 4; ++i) lie[41 + i] = static_cast<std::uint8_t>(length >> (24 - 8 * i));
+    for (int i = 0; i < 4; ++i) lie[49 + i] = static_cast<std::uint8_t>(length >> (24 - 8 * i));
     watch.lcm().publish("SACCADE_COMMAND", lie.data(), static_cast<unsigned>(lie.size()));
     ++sent;
   }
@@ -757,6 +758,121 @@ TEST(Saccaded, HostileCommandsAreRejectedCountedAndSurvived) {
   EXPECT_NE(err.find("'/dev/zero' is not a regular file"), std::string::npos) << err;
   EXPECT_NE(err.find("'/etc/passwd' is not under a model folder"), std::string::npos) << err;
   EXPECT_LT(std::count(err.begin(), err.end(), '\n'), 60) << "the flood flooded the log";
+}
+
+// Signing on (a key made by saccade keygen): one signed SET_FOVEA is acted on; 500 replays of
+// it and 500 unsigned PAUSEs are all refused and counted, none acted on (never paused); then
+// saccade command signs a PAUSE with the key (acted on) and, without the key, sends an unsigned
+// RESUME (refused: it stays paused).
+TEST(Saccaded, WithAKeyOnlySignedCommandsAreActedOnAndReplaysAreRefused) {
+  Sandbox box;
+  StatusWatch watch(box.url);
+  const std::string key_path = box.Path("command.key");
+  ASSERT_EQ(Wait(Spawn({kSaccade, "keygen", "--out", key_path}, box.Path("keygen.out"),
+                       box.Path("keygen.err")))
+                .code,
+            0)
+      << ReadFile(box.Path("keygen.err"));
+  std::string text = ReadFile(kSourceDir + "/configs/demo.yaml");
+  const std::string open = "commands: open";
+  ASSERT_NE(text.find(open), std::string::npos);
+  text.replace(text.find(open), open.size(),
+               "commands: signed\n  command_key: \"" + key_path + "\"");
+  text.replace(text.find("summary: line"), 13, "summary: off\n  status_period_s: 0.2");
+  std::ofstream(box.Path("signed.yaml")) << text;
+  Child daemon = Spawn({kSaccaded, "--config", box.Path("signed.yaml"), "--source",
+                        "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"));
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }))
+      << ReadFile(box.Path("err"));
+
+  saccade::Digest key{};
+  std::string error;
+  ASSERT_TRUE(saccade::ReadCommandKey(key_path, &key, &error)) << error;
+  saccade::command_t look{};
+  look.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                   std::chrono::system_clock::now().time_since_epoch())
+                   .count();
+  look.sequence = 1;
+  look.kind = saccade::command_t::SET_FOVEA;
+  look.fovea[0] = 0.5, look.fovea[1] = 0.1, look.fovea[2] = 1.5;
+  look.model = "";
+  std::vector<std::uint8_t> signed_look(static_cast<std::size_t>(look.getEncodedSize()));
+  look.encode(signed_look.data(), 0, static_cast<int>(signed_look.size()));
+  saccade::SignCommand(key, &signed_look);
+  const auto send = [&](const std::vector<std::uint8_t>& bytes) {
+    watch.lcm().publish("SACCADE_COMMAND", bytes.data(), static_cast<unsigned>(bytes.size()));
+  };
+  send(signed_look);
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
+    return s.commands_accepted == 1 && s.commands_rejected == 0;
+  })) << ReadFile(box.Path("err"));
+  EXPECT_TRUE(watch.WaitForFixation([](const saccade::fixation_t& f) {
+    return f.reason.rfind("command", 0) == 0 && std::abs(f.fovea[0] - 0.5) < 1e-6 &&
+           std::abs(f.fovea[2] - 1.5) < 1e-6;
+  }));
+
+  saccade::command_t pause{};
+  pause.utime = look.utime;
+  pause.sequence = 2;
+  pause.kind = saccade::command_t::PAUSE;
+  pause.model = "";
+  std::vector<std::uint8_t> unsigned_pause(static_cast<std::size_t>(pause.getEncodedSize()));
+  pause.encode(unsigned_pause.data(), 0, static_cast<int>(unsigned_pause.size()));
+  // In bursts of 20, each counted before the next (UDP may drop a burst beyond its buffer).
+  std::int64_t sent = 0, counted = 0;
+  bool ever_paused = false;
+  for (int burst = 0; burst < 50; ++burst) {
+    for (int i = 0; i < 10; ++i, sent += 2) {
+      send(signed_look);
+      send(unsigned_pause);
+    }
+    ASSERT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
+      ever_paused = ever_paused || s.paused;
+      counted = s.commands_rejected;
+      return counted == sent;
+    })) << "burst " << burst << ": " << counted << " of " << sent << " counted";
+  }
+  EXPECT_EQ(sent, 1000);
+  EXPECT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
+    ever_paused = ever_paused || s.paused;
+    return s.commands_accepted == 1 && s.commands_rejected == 1000 && !s.paused;
+  }));
+  EXPECT_FALSE(ever_paused);
+
+  // The command line: signed with --key it is acted on; unsigned (no key at hand) it is not.
+  ASSERT_EQ(Wait(Spawn({kSaccade, "command", "pause", "--key", key_path, "--lcm-url", box.url},
+                       box.Path("pause.out"), box.Path("pause.err")))
+                .code,
+            0)
+      << ReadFile(box.Path("pause.err"));
+  EXPECT_NE(ReadFile(box.Path("pause.out")).find("sent pause on SACCADE_COMMAND, signed"),
+            std::string::npos);
+  EXPECT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
+    return s.paused && s.commands_accepted == 2 && s.commands_rejected == 1000;
+  }));
+  ASSERT_EQ(Wait(Spawn({kSaccade, "command", "resume", "--key", box.Path("none.key"), "--lcm-url",
+                        box.url},
+                       box.Path("resume.out"), box.Path("resume.err")))
+                .code,
+            1);  // an explicit key that is not there
+  EXPECT_NE(ReadFile(box.Path("resume.err")).find("none.key"), std::string::npos);
+  saccade::command_t resume = pause;
+  resume.kind = saccade::command_t::RESUME;
+  resume.sequence = 3;
+  watch.lcm().publish("SACCADE_COMMAND", &resume);  // unsigned
+  EXPECT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
+    return s.paused && s.commands_accepted == 2 && s.commands_rejected == 1001;
+  }));
+
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0);
+  const std::string err = ReadFile(box.Path("err"));
+  EXPECT_NE(err.find("commands signed with " + key_path), std::string::npos) << err;
+  EXPECT_NE(err.find("a replay (this signed command was acted on already)"), std::string::npos)
+      << err;
+  EXPECT_NE(err.find("unsigned (commands must be signed"), std::string::npos) << err;
+  EXPECT_LT(std::count(err.begin(), err.end(), '\n'), 80) << "the refusals flooded the log";
 }
 
 // demo.yaml with the source a camera (`spec`) waited for `wait_s` at start.

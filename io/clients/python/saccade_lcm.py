@@ -8,7 +8,13 @@ file. Decode data with the lcm-gen types installed beside this module:
     from saccade_lcm import Receiver
     for channel, data in Receiver().messages({"SACCADE_DETECTIONS"}):
         d = detections_t.decode(data)
+
+Sender publishes one (a command: sign it with the key first, docs/LCM.md "Signed commands"):
+
+    Sender().publish("SACCADE_COMMAND", sign(command.encode(), read_key("command.key")))
 """
+import hashlib
+import hmac
 import socket
 import struct
 import urllib.parse
@@ -23,13 +29,11 @@ class Receiver:
     """Subscribes to an udpm:// LCM network (the default is saccaded's)."""
 
     def __init__(self, url=DEFAULT_URL):
-        parsed = urllib.parse.urlparse(url)
-        if parsed.scheme != "udpm" or not parsed.hostname or not parsed.port:
-            raise ValueError("not an udpm://GROUP:PORT LCM url: %r" % url)
+        group, port, _ = _group(url)
         self._sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
         self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        self._sock.bind(("", parsed.port))
-        membership = struct.pack("4s4s", socket.inet_aton(parsed.hostname),
+        self._sock.bind(("", port))
+        membership = struct.pack("4s4s", socket.inet_aton(group),
                                  socket.inet_aton("0.0.0.0"))
         self._sock.setsockopt(socket.IPPROTO_IP, socket.IP_ADD_MEMBERSHIP, membership)
         self._partial = {}  # (sender, sequence) -> [channel, buffer, fragments left]
@@ -73,6 +77,48 @@ class Receiver:
             return None
         del self._partial[key]
         return entry[0], bytes(entry[1])
+
+
+def _group(url):
+    parsed = urllib.parse.urlparse(url)
+    if parsed.scheme != "udpm" or not parsed.hostname or not parsed.port:
+        raise ValueError("not an udpm://GROUP:PORT LCM url: %r" % url)
+    ttl = int(urllib.parse.parse_qs(parsed.query).get("ttl", ["0"])[0])
+    return parsed.hostname, parsed.port, ttl
+
+
+class Sender:
+    """Publishes whole messages of up to 64 KB on an udpm:// LCM network, as liblcm does."""
+
+    def __init__(self, url=DEFAULT_URL):
+        self._group, self._port, ttl = _group(url)
+        self._sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM, socket.IPPROTO_UDP)
+        self._sock.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_TTL, ttl)
+        self._sock.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_LOOP, 1)
+        self._sequence = 0
+
+    def publish(self, channel, data):
+        packet = struct.pack(">II", _SHORT, self._sequence) + channel.encode() + b"\0" + data
+        if len(packet) > 65507:
+            raise ValueError("a message of %d bytes needs LCM's fragments" % len(data))
+        self._sequence += 1
+        self._sock.sendto(packet, (self._group, self._port))
+
+
+def read_key(path):
+    """The 32-byte command key of a file saccade keygen wrote (64 hexadecimal digits)."""
+    with open(path) as f:
+        key = bytes.fromhex(f.read().strip())
+    if len(key) != 32:
+        raise ValueError("%s: not a command key (64 hexadecimal digits)" % path)
+    return key
+
+
+def sign(encoded, key):
+    """An encoded command_t with its last 32 bytes (the signature) the HMAC-SHA256, with `key`,
+    of every byte before them."""
+    body = encoded[:-32]
+    return body + hmac.new(key, body, hashlib.sha256).digest()
 
 
 def read_log(path):
