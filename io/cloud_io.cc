@@ -100,31 +100,6 @@ std::optional<LabelledCloud> LoadLabelledCloud(const std::string& path, std::str
   return out;
 }
 
-bool WriteBytes(const std::string& path, const std::string& bytes, std::string* error) {
-  const std::string part = path + ".part";
-  std::FILE* f = std::fopen(part.c_str(), "wb");
-  if (!f) return Fail(error, path + ": cannot write it (" + std::strerror(errno) + ")");
-  // Any failing step fails the write; errno says why when the C library set it.
-  bool failed = false;
-  int why = 0;
-  auto step = [&](bool ok) {
-    if (ok || failed) return;
-    failed = true;
-    why = errno;
-  };
-  errno = 0;
-  step(std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size());
-  step(std::fflush(f) == 0);
-  step(std::fclose(f) == 0);
-  if (!failed) step(std::rename(part.c_str(), path.c_str()) == 0);
-  if (failed) {
-    std::remove(part.c_str());
-    return Fail(error, path + ": cannot write it (" +
-                           (why != 0 ? std::strerror(why) : "write failed") + ")");
-  }
-  return true;
-}
-
 namespace {
 
 // Encoded in memory, written beside its place and renamed into it, so that a full disk or a

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "core/types.h"
+#include "io/output_file.h"
 
 #include <cstdint>
 #include <optional>
@@ -33,11 +34,6 @@ std::optional<Cloud> LoadModelCloud(const std::string& spec, std::string* error)
 /// A model's short name for people: its file name without folder and extension (mug for
 /// /var/lib/saccade/models/mug.pcd); a spec without either (synthetic:target) as it is.
 std::string ModelShortName(const std::string& spec);
-
-/// Writes `bytes` to `path` whole or not at all: beside it (PATH.part), then renamed into it, so
-/// that a full disk or a failed write leaves no half file where a reader would take it for a
-/// whole one; false with "PATH: cannot write it (reason)".
-bool WriteBytes(const std::string& path, const std::string& bytes, std::string* error);
 
 /// Writes a binary-compressed PCD; false with `error` on failure.
 bool SaveCloud(const std::string& path, const Cloud& cloud, std::string* error);

@@ -79,9 +79,9 @@ std::unique_ptr<FakenectWriter> FakenectWriter::Open(const std::string& dir,
   std::unique_ptr<FakenectWriter> w(new FakenectWriter);
   w->dir_ = dir;
   w->calibration_ = calibration;
-  w->index_.open(fs::path(dir) / "INDEX.txt");
-  if (ec || !w->index_) {
-    Fail(error, dir + ": cannot create a fakenect dump there" + (ec ? ": " + ec.message() : ""));
+  std::string why;
+  if (ec || !w->index_.Open((fs::path(dir) / "INDEX.txt").string(), &why)) {
+    Fail(error, dir + ": cannot create a fakenect dump there: " + (ec ? ec.message() : why));
     return nullptr;
   }
   return w;
@@ -130,19 +130,18 @@ bool FakenectWriter::Write(const Frame& frame, std::string* error) {
     std::snprintf(name, sizeof(name), "%c-%f-%u.%s", type, seconds, ticks,
                   type == 'd' ? "pgm" : "ppm");
     const fs::path path = fs::path(dir_) / name;
-    std::ofstream out(path, std::ios::binary);
-    out << HeaderOf(type);
-    out.write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
-    if (!out) return Fail(error, path.string() + ": cannot write");
-    index_ << name << "\n";
-    return true;
+    // The file whole, then its line in INDEX.txt: a frame that did not fit is not listed.
+    if (!WriteBytes(path.string(),
+                    HeaderOf(type) + std::string(static_cast<const char*>(data), bytes), error))
+      return false;
+    if (index_.Append(std::string(name) + "\n", error)) return true;
+    fs::remove(path);
+    return false;
   };
   if (c.colour.width != kKinectWidth || c.colour.height != kKinectHeight ||
       c.depth.width != kKinectWidth || c.depth.height != kKinectHeight)
     return Fail(error, dir_ + ": a fakenect dump is 640x480");
   if (!write('d', raw.data(), kDepthBytes) || !write('r', rgb.data(), kColourBytes)) return false;
-  index_.flush();
-  if (!index_) return Fail(error, dir_ + "/INDEX.txt: cannot write");
   last_utime_ = utime;
   return true;
 }

@@ -12,6 +12,8 @@
 // checked whole before libfreenect sees it.
 #pragma once
 
+#include "io/output_file.h"
+
 #include "core/frame.h"
 #include "core/registration.h"
 
@@ -49,7 +51,7 @@ class FakenectWriter {
   FakenectWriter() = default;
   std::string dir_;
   ColourCalibration calibration_;
-  std::ofstream index_;
+  RecordFile index_;  // INDEX.txt, a whole line per file
   std::optional<std::int64_t> last_utime_;  // of the last frame written
 };
 

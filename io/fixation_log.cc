@@ -109,10 +109,17 @@ namespace {
 struct Listener {
   FixationWriter* writer;
   LcmLogStats* stats;
+  const std::function<bool()>* flushed;
+  bool failed = false;  // the output failed: the listening ends
   void On(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    if (failed) return;
     LoggedFixation r;
     if (DecodeFixation(rbuf->data, rbuf->data_size, &r)) {
       writer->Write(r);
+      if (!(*flushed)()) {
+        failed = true;
+        return;
+      }
       ++stats->written;
     } else {
       ++stats->skipped;
@@ -123,10 +130,12 @@ struct Listener {
 }  // namespace
 
 void ListenFixations(lcm::LCM* lcm, const std::string& channel, FixationWriter* writer,
-                     std::int64_t max_records, const std::atomic<bool>& stop, LcmLogStats* stats) {
-  Listener listener{writer, stats};
+                     std::int64_t max_records, const std::atomic<bool>& stop, LcmLogStats* stats,
+                     const std::function<bool()>& flushed) {
+  Listener listener{writer, stats, &flushed};
   lcm::Subscription* subscription = lcm->subscribe(channel, &Listener::On, &listener);
-  while (!stop && (max_records <= 0 || stats->written < max_records)) lcm->handleTimeout(200);
+  while (!stop && !listener.failed && (max_records <= 0 || stats->written < max_records))
+    lcm->handleTimeout(200);
   lcm->unsubscribe(subscription);
 }
 

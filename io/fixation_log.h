@@ -49,8 +49,10 @@ bool ConvertFixationLog(const std::string& log_path, const std::string& channel,
                         FixationWriter* writer, LcmLogStats* stats, std::string* error);
 
 /// Subscribes to `channel` on `lcm` (OpenLcm, io/lcm_open.h) and writes each fixation until
-/// `stop` is set (checked at least every 200 ms) or `max_records` are written (0: no limit).
+/// `stop` is set (checked at least every 200 ms), `max_records` are written (0: no limit), or
+/// `flushed`, called after each fixation written, returns false (its output failed).
 void ListenFixations(lcm::LCM* lcm, const std::string& channel, FixationWriter* writer,
-                     std::int64_t max_records, const std::atomic<bool>& stop, LcmLogStats* stats);
+                     std::int64_t max_records, const std::atomic<bool>& stop, LcmLogStats* stats,
+                     const std::function<bool()>& flushed);
 
 }  // namespace saccade

@@ -1,6 +1,7 @@
 #include "io/images.h"
 
 #include "core/fail.h"
+#include "io/output_file.h"
 #include "io/text.h"
 
 #include <png.h>
@@ -263,7 +264,7 @@ bool ReadColourCameraFile(const std::string& path, ColourCameraFile* c, std::str
 }
 
 bool WriteColourCameraFile(const std::string& path, const ColourCameraFile& c, std::string* error) {
-  std::ofstream out(path);
+  std::ostringstream out;
   out.precision(10);
   const IntrinsicsFile& k = c.intrinsics;
   out << "# the colour camera: pinhole intrinsics of its images (pixels), and its place in the\n"
@@ -272,18 +273,16 @@ bool WriteColourCameraFile(const std::string& path, const ColourCameraFile& c, s
       << "\nwidth: " << k.width << "\nheight: " << k.height << "\ntx: " << c.t[0]
       << "\nty: " << c.t[1] << "\ntz: " << c.t[2] << "\nrx: " << c.r[0] << "\nry: " << c.r[1]
       << "\nrz: " << c.r[2] << "\n";
-  if (!out) return Fail(error, path, "cannot write colour camera file");
-  return true;
+  return WriteBytes(path, out.str(), error);
 }
 
 bool WriteIntrinsicsFile(const std::string& path, const IntrinsicsFile& k, std::string* error) {
-  std::ofstream out(path);
+  std::ostringstream out;
   out.precision(10);
   out << "# pinhole intrinsics of the depth images in this folder (pixels)\n"
       << "fx: " << k.fx << "\nfy: " << k.fy << "\ncx: " << k.cx << "\ncy: " << k.cy
       << "\nwidth: " << k.width << "\nheight: " << k.height << "\n";
-  if (!out) return Fail(error, path, "cannot write intrinsics file");
-  return true;
+  return WriteBytes(path, out.str(), error);
 }
 
 }  // namespace saccade

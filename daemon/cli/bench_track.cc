@@ -19,6 +19,7 @@
 #include "io/cloud_io.h"
 #include "io/frame_source.h"
 #include "io/json.h"
+#include "io/output_file.h"
 #include "io/log.h"
 #include "io/memory_bus.h"
 #include "io/truth_file.h"
@@ -307,7 +308,7 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
   if (pending) process(std::move(pending->first), pending->second);
 
   if (args.Has("frames-out")) {  // one JSON line per frame, for a look at what happened
-    std::ofstream log(args.Get("frames-out"));
+    std::string log;
     for (std::size_t i = 0; i < outcomes.size(); ++i) {
       const Outcome& o = outcomes[i];
       JsonWriter j;
@@ -319,10 +320,11 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
         j.Key("error_deg").Value(oo.error_deg).EndObject();
       }
       j.EndArray().Key("states").Value(o.states).Key("reason").Value(o.reason).EndObject();
-      log << j.str() << "\n";
+      log += j.str() + "\n";
     }
-    if (!log) {
-      err << "saccade bench-track: cannot write " << args.Get("frames-out") << "\n";
+    std::string error;
+    if (!WriteBytes(args.Get("frames-out"), log, &error)) {
+      err << "saccade bench-track: " << error << "\n";
       return kExitFailure;
     }
   }

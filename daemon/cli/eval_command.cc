@@ -19,6 +19,7 @@
 #include "io/cloud_io.h"
 #include "io/config.h"
 #include "io/frame_source.h"
+#include "io/output_file.h"
 
 #include <pcl/console/print.h>
 
@@ -393,7 +394,9 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
         err << "saccade eval: configuration " << configs[c].name << ", protocol "
             << eval::ProtocolName(p) << " done\n";
       }
-    eval::WriteCaseReport(args.Get("cases"), configs, models, scenes, runs, dir, out);
+    if (!eval::WriteCaseReport(args.Get("cases"), configs, models, scenes, runs, dir, out,
+                               &error))
+      return fail(error);
   }
   const std::string reference = args.Get("reference", "10");
   double reference_ms = 0;
@@ -401,7 +404,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     if (configs[c].name == reference) reference_ms = mean_ms[c];
 
   // Table 7.
-  std::ofstream csv(dir / "table.csv"), md(dir / "table.md");
+  TextFile csv(dir / "table.csv"), md(dir / "table.md");
   csv << "name,pipeline,mean_ms,tp,fp,tp_sphere,fp_sphere,frames,speedup_vs_" << reference << "\n";
   md << "| config | pipeline | mean ms / frame | TP | FP | TP (sphere fit) | FP (sphere fit) | "
         "x faster than "
@@ -430,7 +433,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   }
 
   // Every trial with the fovea on the truth: which scene found what, and where the time went.
-  std::ofstream tr(dir / "trials.csv");
+  TextFile tr(dir / "trials.csv");
   tr << "name,scene,ms,tp,fp,points,keypoints,correspondences,hypotheses,instances";
   // Every stage any trial timed, in order (PCL's stock pipeline times fewer stages).
   std::vector<std::string> stage_names;
@@ -458,7 +461,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     }
 
   // Fig. 8 and 9: true and false positives as the distance threshold varies.
-  std::ofstream th(dir / "thresholds.csv");
+  TextFile th(dir / "thresholds.csv");
   th << "name,threshold_m,tp,fp\n";
   for (std::size_t c = 0; c < configs.size(); ++c)
     for (int k = 1; k <= 20; ++k) {
@@ -467,7 +470,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     }
 
   // Fig. 10: the fovea moved 0-35 cm from the object along x.
-  std::ofstream sw(dir / "sweep.csv");
+  TextFile sw(dir / "sweep.csv");
   // With attention: scenes found within the loop's budget, mean frames it took them, and the
   // false instances seen on the way.
   sw << "name,offset_m,tp,fp,mean_ms,acquired,mean_frames,acquire_fp\n";
@@ -489,7 +492,8 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
          << ',' << false_instances << "\n";
     }
   }
-  csv.close(), md.close(), tr.close(), th.close(), sw.close();
+  for (const TextFile* file : {&csv, &md, &tr, &th, &sw})
+    if (!file->Commit(&error)) return fail(error);
 
   std::string written = "table.csv table.md trials.csv thresholds.csv sweep.csv";
   if (!args.Has("no-overlays")) {

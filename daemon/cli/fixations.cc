@@ -8,12 +8,13 @@
 #include "io/detections_log.h"
 #include "io/fixation_log.h"
 #include "io/lcm_open.h"
+#include "io/output_file.h"
 
 #include <lcm/lcm-cpp.hpp>
 
 #include <atomic>
 #include <cstdio>
-#include <fstream>
+#include <sstream>
 #include <functional>
 #include <memory>
 #include <ostream>
@@ -25,9 +26,11 @@ const std::string kDefaultUrl = BusOptions{}.url;
 
 constexpr const char* kOutRequired = "--out FILE.csv|FILE.jsonl is required";
 
-// Where a fixation log goes: --out (or stdout for "-"), in the format its name asks for.
+// Where a fixation log goes: --out (or stdout for "-"), in the format its name asks for. Each
+// fixation is formatted into `pending`, then appended to the file whole (or not at all).
 struct Output {
-  std::ofstream file;
+  RecordFile file;
+  std::ostringstream pending;
   std::unique_ptr<FixationWriter> writer;
 };
 
@@ -42,13 +45,8 @@ bool OpenOutput(const Args& args, std::ostream& out, Output* output, std::string
   const std::string path = args.Get("out");
   FixationWriter::Format format;
   if (!OutputFormat(args, &format, error)) return false;
-  if (path != "-") {
-    output->file.open(path);
-    if (!output->file) {
-      return Fail(error, "'" + path + "': cannot write it");
-    }
-  }
-  output->writer = std::make_unique<FixationWriter>(path == "-" ? out : output->file, format);
+  if (path != "-" && !output->file.Open(path, error)) return false;
+  output->writer = std::make_unique<FixationWriter>(path == "-" ? out : output->pending, format);
   return true;
 }
 
@@ -85,8 +83,23 @@ int RunLogFixations(const std::vector<std::string>& argv, std::ostream& out, std
   std::atomic<bool> stop{false};
   SignalWaiter signals([&](int) { stop = true; });  // SIGINT/SIGTERM end the log cleanly
   LcmLogStats stats;
+  // Each fixation goes to the file as it comes, whole: a full disk ends the log with the
+  // fixations before it kept, and the file ends on a whole line.
+  std::string failure;
+  const auto flushed = [&] {
+    if (!output.file.is_open()) return static_cast<bool>(out.flush());
+    const bool ok = output.file.Append(output.pending.str(), &failure);
+    output.pending.str("");
+    return ok;
+  };
   ListenFixations(lcm.get(), args.Get("channel", FixationChannel("SACCADE")), output.writer.get(),
-                  count, stop, &stats);
+                  count, stop, &stats, flushed);
+  if (failure.empty()) output.file.Close(&failure);
+  if (!failure.empty()) {
+    err << "saccade log-fixations: " << failure << "; the " << stats.written
+        << " fixation(s) before it are kept whole\n";
+    return kExitFailure;
+  }
   err << "saccade log-fixations: " << stats.written << " fixation(s) written";
   if (stats.skipped > 0) err << ", " << stats.skipped << " malformed message(s) skipped";
   err << "\n";
@@ -126,22 +139,19 @@ int RunLogConversion(const std::vector<std::string>& argv, std::ostream& out, st
     return kExitFailure;
   };
   if (!CheckLcmLog(log, &error)) return fail(error);
-  std::ofstream file;
-  if (path != "-") {
-    file.open(path);
-    if (!file) return fail("'" + path + "': cannot write it");
-  }
+  // Converted in memory, then written whole (beside its place and renamed) or not at all.
+  std::ostringstream table;
   LcmLogStats stats;
-  if (!convert(log, args.Get("channel", channel), path == "-" ? out : file, format, &stats, &error))
+  if (!convert(log, args.Get("channel", channel), path == "-" ? out : table, format, &stats,
+               &error))
     return fail(error);
   if (stats.written == 0 && stats.skipped > 0) {
-    file.close();
-    if (path != "-") std::remove(path.c_str());
     return fail(log + ": none of the " + std::to_string(stats.skipped) +
                 " message(s) on the channel decode as a " + type +
                 " (a log of an older saccaded, whose types had another fingerprint, or of "
                 "another type)");
   }
+  if (path != "-" && !WriteBytes(path, table.str(), &error)) return fail(error);
   if (stats.skipped > 0)
     err << "saccade " << command << ": " << stats.skipped << " malformed message(s) skipped\n";
   return kExitOk;

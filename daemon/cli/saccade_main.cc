@@ -2,7 +2,10 @@
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 
+#include <cerrno>
 #include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -73,7 +76,17 @@ int main(int argc, char** argv) {
   std::vector<std::string> names;
   for (const Command& c : kCommands) {
     names.push_back(c.name);
-    if (args[0] == c.name) return c.run({args.begin() + 1, args.end()}, std::cout, std::cerr);
+    if (args[0] != c.name) continue;
+    const int code = c.run({args.begin() + 1, args.end()}, std::cout, std::cerr);
+    // What went to stdout must have reached it: `saccade labels --json > /full/disk.json` is a
+    // failure, not a success with nothing written.
+    errno = 0;
+    if (!std::cout.flush() || std::fflush(stdout) != 0) {
+      std::cerr << "saccade " << c.name << ": cannot write standard output ("
+                << (errno != 0 ? std::strerror(errno) : "write failed") << ")\n";
+      return code == saccade::kExitOk ? saccade::kExitFailure : code;
+    }
+    return code;
   }
   const std::string near = saccade::Args::Nearest(args[0], names);
   std::cerr << "saccade: unknown command '" << args[0] << "'"

@@ -1,5 +1,7 @@
 #include "daemon/eval/plots.h"
 
+#include "io/output_file.h"
+
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
@@ -181,10 +183,7 @@ bool WritePlots(const fs::path& dir, std::vector<std::string>* pngs, std::string
          name.rfind("sweep", 0) == 0))
       fs::remove(entry.path(), ec);
   }
-  std::ofstream gp(dir / "plot.gp");
-  gp << script.text;
-  gp.close();
-  if (!gp) return fail((dir / "plot.gp").string() + ": cannot write it");
+  if (!WriteBytes((dir / "plot.gp").string(), script.text, error)) return false;
   const std::string command = "cd " + ShellWord(dir.string()) + " && gnuplot plot.gp 2> plot.log";
   if (std::system(command.c_str()) != 0)
     return fail("gnuplot failed (see " + (dir / "plot.log").string() + ")");

@@ -1,5 +1,7 @@
 #include "daemon/eval/report.h"
 
+#include "io/output_file.h"
+
 #include <algorithm>
 #include <fstream>
 #include <iomanip>
@@ -87,10 +89,11 @@ const char* ProtocolName(Protocol p) {
   return "?";
 }
 
-void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfiguration>& configs,
+bool WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfiguration>& configs,
                      const std::vector<EvalModel>& models, const std::vector<Scene>& scenes,
                      const std::vector<std::vector<ProtocolRun>>& runs,
-                     const std::filesystem::path& dir, std::ostream& out) {
+                     const std::filesystem::path& dir, std::ostream& out,
+                     std::string* error) {
   // Per model: the points ADD-S is measured over and the model's diagonal.
   std::vector<std::vector<Eigen::Vector3f>> pose_points(models.size());
   std::vector<float> diagonal(models.size(), 0);
@@ -152,7 +155,7 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
   };
   const auto all = [](const Scene&) { return true; };
 
-  std::ofstream md(dir / "report.md");
+  TextFile md(dir / "report.md");
   md << std::fixed;
   std::set<std::string> identities, categories;
   int feasible = 0;
@@ -311,7 +314,7 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
     }
 
   // Every reported instance with its figures: what a confidence is calibrated on.
-  std::ofstream inst(dir / "instances.csv");
+  TextFile inst(dir / "instances.csv");
   inst << "configuration,protocol,case,identity,feasible,rank,true,votes,fitness,coverage,"
           "colour_agreement,confidence,texture,texture_agreement\n";
   for (std::size_t c = 0; c < runs.size(); ++c)
@@ -329,7 +332,7 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
         }
 
   // Every case under every configuration and protocol.
-  std::ofstream csv(dir / "cases.csv");
+  TextFile csv(dir / "cases.csv");
   csv << "configuration,protocol,case,identity,category,feasible,found,pose_found,"
          "false_instances,ms,translation_err_m,rotation_err_deg,adds_m,diagonal_m,confidence,"
          "stage,correct_correspondences,hypotheses,acquire_frames,acquire_false,false_seen,"
@@ -360,6 +363,9 @@ void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfig
         }
         csv << "\n";
       }
+  for (const TextFile* file : {&md, &inst, &csv})
+    if (!file->Commit(error)) return false;
+  return true;
 }
 
 }  // namespace saccade::eval

@@ -14,10 +14,10 @@
 namespace saccade::eval {
 
 /// Writes `report.md` and `cases.csv` into `dir` for `runs` (per configuration, its protocols)
-/// and prints the headline rows to `out`.
-void WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfiguration>& configs,
+/// and prints the headline rows to `out`; false with one line when a file cannot be written.
+bool WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfiguration>& configs,
                      const std::vector<EvalModel>& models, const std::vector<Scene>& scenes,
                      const std::vector<std::vector<ProtocolRun>>& runs,
-                     const std::filesystem::path& dir, std::ostream& out);
+                     const std::filesystem::path& dir, std::ostream& out, std::string* error);
 
 }  // namespace saccade::eval

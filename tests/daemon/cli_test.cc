@@ -4,6 +4,9 @@
 #include "support/mosd_truth.h"
 #include "support/test_data.h"
 
+#include <saccade/detections_t.hpp>
+#include <saccade/fixation_t.hpp>
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -632,6 +635,98 @@ TEST(Cli, RecordOnADiskThatFillsKeepsTheWholeFramesAndSaysWhy) {
     EXPECT_EQ(rows, frames) << format << ": a truth row for every whole frame, no more";
     std::filesystem::remove_all(dir);
   }
+}
+
+// An lcm-logger log (its file format) of `n` frames: a fixation on SACCADE_FIXATION and a
+// detections message with one instance on SACCADE_DETECTIONS each.
+std::string FrameLog(const std::string& path, int n) {
+  std::string log;
+  std::uint64_t events = 0;
+  const auto put = [&log](std::uint64_t v, int bytes) {
+    for (int i = bytes - 1; i >= 0; --i) log += static_cast<char>((v >> (8 * i)) & 0xff);
+  };
+  const auto event = [&](const std::string& channel, std::int64_t utime, const auto& message) {
+    std::vector<char> data(static_cast<std::size_t>(message.getEncodedSize()));
+    message.encode(data.data(), 0, static_cast<int>(data.size()));
+    put(0xEDA1DA01u, 4), put(events++, 8), put(static_cast<std::uint64_t>(utime), 8);
+    put(channel.size(), 4), put(data.size(), 4);
+    log += channel + std::string(data.begin(), data.end());
+  };
+  for (int i = 0; i < n; ++i) {
+    saccade::fixation_t f{};
+    f.utime = 1'000'000 + i;
+    f.seq = i;
+    f.frame = "camera";
+    f.mode_name = "SEARCHING";
+    f.reason = "test";
+    event("SACCADE_FIXATION", f.utime, f);
+    saccade::detections_t d{};
+    d.utime = f.utime;
+    d.seq = i;
+    d.frame = "camera";
+    saccade::instance_t instance{};
+    instance.model_name = "synthetic:target";
+    instance.track_state_name = "TRACKING";
+    d.instances.push_back(instance);
+    d.num_instances = 1;
+    event("SACCADE_DETECTIONS", d.utime, d);
+  }
+  std::ofstream(path, std::ios::binary) << log;
+  return path;
+}
+
+// A disk with no room left (a full tmpfs, mounted when run as root, as CI is): every writer
+// says which file and why in one line, exits 1 and leaves no file, whole or half, under the
+// final name; a live log keeps the whole lines it wrote. And a stdout that cannot be written
+// (/dev/full) fails the command instead of passing for success.
+TEST(Cli, EveryWriterOnAFullDiskSaysSoExitsOneAndLeavesNoHalfFile) {
+  {
+    const std::string cmd = std::string(SACCADE_BINARY) + " segment --help 2>&1 >/dev/full";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    std::array<char, 4096> buf{};
+    std::string out;
+    while (std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+    const int status = pclose(pipe);
+    EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1) << out;
+    EXPECT_EQ(out, "saccade segment: cannot write standard output (No space left on device)\n");
+  }
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs";
+  const std::string disk = ::testing::TempDir() + "saccade_no_room_" + std::to_string(getpid());
+  std::filesystem::create_directories(disk);
+  if (std::system(("mount -t tmpfs -o size=1m tmpfs " + disk + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here";
+  struct Unmount {
+    std::string dir;
+    ~Unmount() {
+      (void)std::system(("umount " + dir).c_str());
+      std::filesystem::remove(dir);
+    }
+  } unmount{disk};
+  const std::string log = FrameLog(::testing::TempDir() + "saccade_no_room.lcmlog", 20);
+  (void)std::system(("dd if=/dev/zero of=" + disk + "/filler bs=4k 2>/dev/null").c_str());
+
+  struct Case {
+    std::string args, file;
+  };
+  const std::vector<Case> cases = {
+      {"model --synthetic target --out " + disk + "/target.ply", "target.ply"},
+      {"keygen --out " + disk + "/command.key", "command.key"},
+      {"fixations " + log + " --out " + disk + "/fixations.csv", "fixations.csv"},
+      {"detections " + log + " --out " + disk + "/detections.jsonl", "detections.jsonl"},
+      {"bench-track --source 'synthetic:static?frames=2' --model synthetic:target --frames-out " +
+           disk + "/frames.jsonl",
+       "frames.jsonl"},
+      {"record --source 'synthetic:static?frames=2' --format depth --out " + disk + "/depth",
+       "depth/intrinsics.yaml"},
+  };
+  for (const Case& c : cases) {
+    const CliRun r = Saccade(c.args);
+    EXPECT_EQ(r.code, 1) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find("No space left on device"), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_FALSE(std::filesystem::exists(disk + "/" + c.file)) << c.args;
+  }
+  for (const auto& e : std::filesystem::recursive_directory_iterator(disk))
+    EXPECT_EQ(e.path().string().find(".part"), std::string::npos) << e.path() << " left behind";
 }
 
 TEST(Cli, RecordOniNeedsAnOpenNI2Source) {
