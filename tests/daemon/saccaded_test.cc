@@ -1020,6 +1020,59 @@ TEST(Saccaded, LogFixationsWritesWhatTheDaemonPublishesLive) {
   EXPECT_NE(ReadFile(box.Path("log.err")).find("5 fixation(s) written"), std::string::npos);
 }
 
+// A disk that fills while fixations are logged (a tmpfs with 4 KB left, as root): the logger
+// ends with exit 1 and one line saying why and how many it kept; the file holds exactly those,
+// each line whole; the daemon publishes on.
+TEST(Saccaded, LogFixationsOnADiskThatFillsKeepsEveryWholeLineAndSaysWhy) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs";
+  Sandbox box;
+  const std::string disk = box.Path("disk");
+  fs::create_directories(disk);
+  if (std::system(("mount -t tmpfs -o size=64k tmpfs " + disk + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here";
+  struct Unmount {
+    std::string dir;
+    ~Unmount() { (void)std::system(("umount " + dir).c_str()); }
+  } unmount{disk};
+  ASSERT_EQ(std::system(("dd if=/dev/zero of=" + disk + "/filler bs=4k count=15 2>/dev/null")
+                            .c_str()),
+            0);
+  StatusWatch watch(box.url);
+  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                        "synthetic:static?rate=30&loop=1", "--lcm-url", box.url},
+                       box.Path("out"), box.Path("err"));
+  const std::string out = disk + "/fixations.csv";
+  Child logger = Spawn({kSaccade, "log-fixations", "--out", out, "--lcm-url", box.url},
+                       box.Path("log.out"), box.Path("log.err"));
+  EXPECT_EQ(logger.Wait().code, 1);
+  const std::string said = ReadFile(box.Path("log.err"));
+  EXPECT_EQ(std::count(said.begin(), said.end(), '\n'), 1) << said;
+  EXPECT_NE(said.find(out + ": cannot write it (No space left on device); the "), std::string::npos)
+      << said;
+  const std::size_t at = said.find("; the ") + 6;
+  const int kept = std::atoi(said.c_str() + at);
+  EXPECT_GT(kept, 5) << said;
+  const std::string text = ReadFile(out);
+  ASSERT_FALSE(text.empty());
+  EXPECT_EQ(text.back(), '\n') << "a half line at the end";
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), kept + 1) << "the header and each kept";
+  std::istringstream lines(text);
+  std::string line, header;
+  std::getline(lines, header);
+  const auto fields = std::count(header.begin(), header.end(), ',');
+  while (std::getline(lines, line)) EXPECT_EQ(std::count(line.begin(), line.end(), ','), fields);
+  const std::int64_t before = [&] {
+    std::int64_t n = 0;
+    watch.WaitFor([&](const saccade::status_t& s) { return (n = s.frames_processed) > 0; });
+    return n;
+  }();
+  EXPECT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
+    return s.frames_processed > before + 10;  // publishing on
+  }));
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0);
+}
+
 struct BadConfig {
   std::string text;
   std::string expected;  // in the one error line
