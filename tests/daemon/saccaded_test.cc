@@ -473,7 +473,7 @@ TEST(Saccaded, ReloadsAGoodConfigOnSighupAndKeepsTheOldOneOnABadOne) {
 // A model file removed before a reload (a package upgrade, a user tidying the models folder):
 // the reload fails naming the file, the model already loaded goes on tracking, and once the
 // file is back the next SIGHUP loads it.
-TEST(Saccaded, AModelFileRemovedBeforeAReloadKeepsTheLoadedModelTracking) {
+TEST(Saccaded, AModelFileRemovedOrHalfWrittenAtAReloadKeepsTheLoadedModelTracking) {
   Sandbox box;
   StatusWatch watch(box.url);
   const std::string model = box.Path("target.pcd");
@@ -515,7 +515,27 @@ TEST(Saccaded, AModelFileRemovedBeforeAReloadKeepsTheLoadedModelTracking) {
   EXPECT_NE(ReadFile(box.Path("out")).find("| target #0 TRACKING ("), std::string::npos)
       << ReadFile(box.Path("out"));
 
-  fs::rename(kept, model);
+  // The file comes back half written (a copy caught midway): refused as such, still tracking.
+  const std::string whole = ReadFile(kept);
+  std::ofstream(model, std::ios::binary) << whole.substr(0, whole.size() / 2);
+  const auto failures = [&] {
+    const std::string err = ReadFile(box.Path("err"));
+    int n = 0;
+    for (std::size_t at = err.find("reload failed"); at != std::string::npos;
+         at = err.find("reload failed", at + 1))
+      ++n;
+    return n;
+  };
+  daemon.Signal(SIGHUP);
+  EXPECT_TRUE(WaitFor([&] { return failures() == 2; })) << ReadFile(box.Path("err"));
+  fixations = 0, tracking = 0;
+  EXPECT_TRUE(watch.WaitForFixation([&](const saccade::fixation_t& f) {
+    tracking += f.mode == saccade::fixation_t::TRACKING;
+    return ++fixations == 30;
+  }));
+  EXPECT_EQ(tracking, 30);
+
+  fs::rename(kept, model);  // the whole file replaces the half one at once
   daemon.Signal(SIGHUP);
   EXPECT_TRUE(WaitFor(
       [&] { return ReadFile(box.Path("err")).find("info: reloaded") != std::string::npos; }));
