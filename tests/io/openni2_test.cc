@@ -5,6 +5,7 @@
 #include "io/frame_writer.h"
 #include "io/images.h"
 #include "io/openni2_source.h"
+#include "support/processes.h"
 #include "support/depth_folder.h"
 
 #include <gtest/gtest.h>
@@ -169,6 +170,51 @@ TEST_F(OpenNI2Test, ADeviceThatGoesSilentFiveTimesIsReopenedEachTime) {
   EXPECT_LE(frames, 3 * static_cast<int>(source->Stats().reconnects + 1));
   EXPECT_GE(frames, 5);
   ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
+  EXPECT_EQ(source->Stats().state, "streaming");
+}
+
+// A camera unplugged and plugged back 100 times in one run (its folder taken away and put
+// back): each time its stream falls silent, the reopen fails while it is away (the state says
+// why), and once it is back the device is reopened and frames resume, each a whole image of the
+// device. A cycle takes about 2.6 s: the 2 s of silence that mean a camera is gone, then the
+// first 0.5 s step of the back-off.
+TEST_F(OpenNI2Test, ACameraThatGoesAndComesBackAHundredTimesIsReopenedEachTime) {
+  setenv("SACCADE_VIRTUAL_DEVICE_STALL_AFTER", "2", 1);
+  const std::string away = dir_ + ".away";
+  struct Restore {
+    std::string dir, away;
+    ~Restore() {
+      unsetenv("SACCADE_VIRTUAL_DEVICE_STALL_AFTER");
+      if (fs::exists(away)) fs::rename(away, dir);
+    }
+  } restore{dir_, away};
+  std::string error;
+  auto source = OpenSource("openni2://", &error);
+  ASSERT_TRUE(source) << error;
+  Frame f;
+  int failed_reopens = 0;
+  constexpr unsigned kCycles = 100;
+  for (unsigned cycle = 0; cycle < kCycles; ++cycle) {
+    // Connected (again): a frame of the device.
+    ASSERT_TRUE(testing::WaitFor([&] {
+      const SourceStats s = source->Stats();
+      return s.reconnects == cycle && s.state == "streaming";
+    })) << "cycle " << cycle << ": " << source->Stats().state;
+    ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
+    ASSERT_GE(ImageOf(f), 0) << "cycle " << cycle;
+    // Unplugged: silent, and the reopen fails while the device is away.
+    fs::rename(dir_, away);
+    ASSERT_TRUE(testing::WaitFor([&] {
+      const std::string state = source->Stats().state;
+      return state.rfind("reconnecting: ", 0) == 0 && state != "reconnecting: no frame for 2 s";
+    })) << "cycle " << cycle << ": " << source->Stats().state;
+    ++failed_reopens;
+    fs::rename(away, dir_);  // plugged back
+  }
+  ASSERT_TRUE(testing::WaitFor([&] { return source->Stats().reconnects == kCycles; }));
+  ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
+  EXPECT_GE(ImageOf(f), 0);
+  EXPECT_EQ(failed_reopens, 100);
   EXPECT_EQ(source->Stats().state, "streaming");
 }
 
