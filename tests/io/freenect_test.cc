@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -119,6 +120,43 @@ TEST_F(FreenectTest, ACorruptDumpIsAOneLineErrorNamingTheFile) {
   EXPECT_NE(error.find("INDEX.txt:1: expected d-, r- or a-SECONDS-TIMESTAMP.EXT"),
             std::string::npos)
       << error;
+}
+
+// A dump cut short, as a recording on a disk that filled leaves it (io/fakenect_dump.cc: a file
+// is listed once it is whole, so the last frame may have its depth without its colour): its
+// whole frames come back in order, then it ends; no error, nothing made up.
+TEST_F(FreenectTest, ADumpCutShortReplaysItsWholeFramesThenEnds) {
+  std::vector<std::string> lines;
+  {
+    std::ifstream index(dir_ + "/INDEX.txt");
+    for (std::string line; std::getline(index, line);) lines.push_back(line);
+  }
+  ASSERT_EQ(lines.size(), 2u * kFrames);  // d, r for each frame
+  lines.resize(5);                         // frames 0 and 1 whole, frame 2's depth alone
+  {
+    std::ofstream index(dir_ + "/INDEX.txt");
+    for (const std::string& line : lines) index << line << "\n";
+  }
+  for (const auto& e : fs::directory_iterator(dir_)) {
+    const std::string name = e.path().filename().string();
+    if (name != "INDEX.txt" && std::find(lines.begin(), lines.end(), name) == lines.end())
+      fs::remove(e.path());
+  }
+  std::string error;
+  auto source = Replay(dir_, &error);
+  ASSERT_TRUE(source) << error;
+  Frame f;
+  std::size_t n = 0;
+  FrameSource::Status status;
+  while ((status = source->Next(&f, &error)) == FrameSource::Status::kFrame) {
+    ASSERT_LT(n, 3u);
+    EXPECT_EQ(f.sequence, n);
+    EXPECT_NEAR(f.capture_utime, written_[n].capture_utime, 1) << "frame " << n;
+    ++n;
+  }
+  EXPECT_EQ(status, FrameSource::Status::kEnd) << error;
+  EXPECT_GE(n, 2u);
+  EXPECT_EQ(source->Stats().state, "ended");
 }
 
 TEST_F(FreenectTest, AnEmptyAccelerometerRecordIsRefusedNotTakenAsTheEnd) {
