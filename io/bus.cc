@@ -410,9 +410,10 @@ BusOptions::Commands BusOptions::Resolved() const {
 bool BusOptions::IsValid(std::string* error) const {
   if (url.empty()) return Fail(error, "url must not be empty");
   if (commands == Commands::kOpen && UrlTtl(url) != 0)
-    return Fail(error, "commands: open lets anyone the network reaches command saccaded; it is "
-                       "allowed only with ttl=0 in the url (make a key with saccade keygen and "
-                       "use signed)");
+    return Fail(error,
+                "commands: open lets anyone the network reaches command saccaded; it is "
+                "allowed only with ttl=0 in the url (make a key with saccade keygen and "
+                "use signed)");
   if (command_key.empty()) return Fail(error, "command_key must not be empty");
   if (!(command_max_age_s > 0 && command_max_age_s <= 3600))
     return Fail(error, "command_max_age_s must be in (0, 3600]");

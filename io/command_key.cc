@@ -52,8 +52,9 @@ bool WriteCommandKey(const std::string& path, const std::string& owner, bool for
                      std::string* error) {
   struct stat st {};
   if (!force && lstat(path.c_str(), &st) == 0)
-    return Fail(error, path + ": a key is already there (--force replaces it; every sender "
-                              "then needs the new one)");
+    return Fail(error, path +
+                           ": a key is already there (--force replaces it; every sender "
+                           "then needs the new one)");
   uid_t uid = static_cast<uid_t>(-1);
   gid_t gid = static_cast<gid_t>(-1);
   if (!owner.empty()) {
@@ -124,8 +125,9 @@ bool ReadCommandKey(const std::string& path, Digest* key, std::string* error) {
     (*key)[i] = static_cast<std::uint8_t>(hi * 16 + lo);
   }
   if (!hex)
-    return Fail(error, path + ": not a command key (64 hexadecimal digits, as saccade keygen "
-                              "writes)");
+    return Fail(error, path +
+                           ": not a command key (64 hexadecimal digits, as saccade keygen "
+                           "writes)");
   return true;
 }
 
@@ -137,7 +139,9 @@ void SignCommand(const Digest& key, std::vector<std::uint8_t>* encoded) {
 
 CommandGate::CommandGate(const Digest& key, double max_age_s,
                          std::function<std::int64_t()> now_utime)
-    : key_(key), max_age_us_(static_cast<std::int64_t>(max_age_s * 1e6)), now_(std::move(now_utime)) {}
+    : key_(key),
+      max_age_us_(static_cast<std::int64_t>(max_age_s * 1e6)),
+      now_(std::move(now_utime)) {}
 
 bool CommandGate::Admit(const void* data, std::size_t size, std::string* why) {
   const auto* bytes = static_cast<const std::uint8_t*>(data);

@@ -51,7 +51,7 @@ class FakenectWriter {
   FakenectWriter() = default;
   std::string dir_;
   ColourCalibration calibration_;
-  RecordFile index_;  // INDEX.txt, a whole line per file
+  RecordFile index_;                        // INDEX.txt, a whole line per file
   std::optional<std::int64_t> last_utime_;  // of the last frame written
 };
 

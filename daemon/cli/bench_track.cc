@@ -19,9 +19,9 @@
 #include "io/cloud_io.h"
 #include "io/frame_source.h"
 #include "io/json.h"
-#include "io/output_file.h"
 #include "io/log.h"
 #include "io/memory_bus.h"
+#include "io/output_file.h"
 #include "io/truth_file.h"
 
 #include <algorithm>

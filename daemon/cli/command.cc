@@ -27,8 +27,8 @@ int RunKeygen(const std::vector<std::string>& argv, std::ostream& out, std::ostr
             "digits, mode 0600. saccaded acts only on commands signed with it once it exists "
             "(lcm.commands: auto or signed); each program that sends commands needs a copy "
             "(docs/LCM.md, \"Signed commands\").");
-  args.Value("out", "PATH", std::string("where the key goes (default: ") + kDefaultCommandKeyPath +
-                                ")")
+  args.Value("out", "PATH",
+             std::string("where the key goes (default: ") + kDefaultCommandKeyPath + ")")
       .Value("owner", "USER", "the user the key file belongs to (saccaded's: saccade)")
       .Switch("force", "replace a key that is there (every sender then needs the new one)");
   if (auto code = args.Parse(argv, out, err)) return *code;

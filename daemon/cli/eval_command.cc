@@ -394,8 +394,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
         err << "saccade eval: configuration " << configs[c].name << ", protocol "
             << eval::ProtocolName(p) << " done\n";
       }
-    if (!eval::WriteCaseReport(args.Get("cases"), configs, models, scenes, runs, dir, out,
-                               &error))
+    if (!eval::WriteCaseReport(args.Get("cases"), configs, models, scenes, runs, dir, out, &error))
       return fail(error);
   }
   const std::string reference = args.Get("reference", "10");

@@ -14,10 +14,10 @@
 
 #include <atomic>
 #include <cstdio>
-#include <sstream>
 #include <functional>
 #include <memory>
 #include <ostream>
+#include <sstream>
 
 namespace saccade {
 namespace {

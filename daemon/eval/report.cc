@@ -92,8 +92,7 @@ const char* ProtocolName(Protocol p) {
 bool WriteCaseReport(const std::string& cases_file, const std::vector<EvalConfiguration>& configs,
                      const std::vector<EvalModel>& models, const std::vector<Scene>& scenes,
                      const std::vector<std::vector<ProtocolRun>>& runs,
-                     const std::filesystem::path& dir, std::ostream& out,
-                     std::string* error) {
+                     const std::filesystem::path& dir, std::ostream& out, std::string* error) {
   // Per model: the points ADD-S is measured over and the model's diagonal.
   std::vector<std::vector<Eigen::Vector3f>> pose_points(models.size());
   std::vector<float> diagonal(models.size(), 0);

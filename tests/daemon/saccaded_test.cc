@@ -851,7 +851,8 @@ TEST(Saccaded, WithAKeyOnlySignedCommandsAreActedOnAndReplaysAreRefused) {
       ever_paused = ever_paused || s.paused;
       counted = s.commands_rejected;
       return counted == sent;
-    })) << "burst " << burst << ": " << counted << " of " << sent << " counted";
+    })) << "burst "
+        << burst << ": " << counted << " of " << sent << " counted";
   }
   EXPECT_EQ(sent, 1000);
   EXPECT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
@@ -1082,9 +1083,9 @@ TEST(Saccaded, LogFixationsOnADiskThatFillsKeepsEveryWholeLineAndSaysWhy) {
     std::string dir;
     ~Unmount() { (void)std::system(("umount " + dir).c_str()); }
   } unmount{disk};
-  ASSERT_EQ(std::system(("dd if=/dev/zero of=" + disk + "/filler bs=4k count=15 2>/dev/null")
-                            .c_str()),
-            0);
+  ASSERT_EQ(
+      std::system(("dd if=/dev/zero of=" + disk + "/filler bs=4k count=15 2>/dev/null").c_str()),
+      0);
   StatusWatch watch(box.url);
   Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
                         "synthetic:static?rate=30&loop=1", "--lcm-url", box.url},

@@ -1,8 +1,8 @@
 // Signed commands without a daemon: the HMAC against another implementation's answer, the key
 // file's rules, the gate's verdicts (unsigned, wrong key, changed, stale, replayed), and which
 // mode `lcm.commands: auto` comes to.
-#include "io/bus.h"
 #include "io/command_key.h"
+#include "io/bus.h"
 
 #include <saccade/command_t.hpp>
 
@@ -51,8 +51,8 @@ saccade::command_t Pause(std::int64_t utime, std::int64_t sequence) {
 }
 
 std::string TempFolder(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "saccade_key_" + name + "_" +
-                          std::to_string(getpid());
+  const std::string dir =
+      ::testing::TempDir() + "saccade_key_" + name + "_" + std::to_string(getpid());
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

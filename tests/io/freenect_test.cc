@@ -132,7 +132,7 @@ TEST_F(FreenectTest, ADumpCutShortReplaysItsWholeFramesThenEnds) {
     for (std::string line; std::getline(index, line);) lines.push_back(line);
   }
   ASSERT_EQ(lines.size(), 2u * kFrames);  // d, r for each frame
-  lines.resize(5);                         // frames 0 and 1 whole, frame 2's depth alone
+  lines.resize(5);                        // frames 0 and 1 whole, frame 2's depth alone
   {
     std::ofstream index(dir_ + "/INDEX.txt");
     for (const std::string& line : lines) index << line << "\n";

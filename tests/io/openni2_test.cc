@@ -5,8 +5,8 @@
 #include "io/frame_writer.h"
 #include "io/images.h"
 #include "io/openni2_source.h"
-#include "support/processes.h"
 #include "support/depth_folder.h"
+#include "support/processes.h"
 
 #include <gtest/gtest.h>
 
@@ -199,7 +199,8 @@ TEST_F(OpenNI2Test, ACameraThatGoesAndComesBackAHundredTimesIsReopenedEachTime) 
     ASSERT_TRUE(testing::WaitFor([&] {
       const SourceStats s = source->Stats();
       return s.reconnects == cycle && s.state == "streaming";
-    })) << "cycle " << cycle << ": " << source->Stats().state;
+    })) << "cycle "
+        << cycle << ": " << source->Stats().state;
     ASSERT_EQ(source->Next(&f, &error), FrameSource::Status::kFrame) << error;
     ASSERT_GE(ImageOf(f), 0) << "cycle " << cycle;
     // Unplugged: silent, and the reopen fails while the device is away.
@@ -207,7 +208,8 @@ TEST_F(OpenNI2Test, ACameraThatGoesAndComesBackAHundredTimesIsReopenedEachTime) 
     ASSERT_TRUE(testing::WaitFor([&] {
       const std::string state = source->Stats().state;
       return state.rfind("reconnecting: ", 0) == 0 && state != "reconnecting: no frame for 2 s";
-    })) << "cycle " << cycle << ": " << source->Stats().state;
+    })) << "cycle "
+        << cycle << ": " << source->Stats().state;
     ++failed_reopens;
     fs::rename(away, dir_);  // plugged back
   }

@@ -2,9 +2,9 @@
 // The signature is HMAC-SHA256, with the 32-byte key of KEY_FILE (64 hexadecimal digits, made
 // by saccade keygen), of every byte of the encoded command_t before its last 32, which it fills
 // (docs/LCM.md, "Signed commands"). Builds with the lcm-gen headers and -lcrypto.
-#include <lcm/lcm-cpp.hpp>
 #include <openssl/evp.h>
 #include <openssl/hmac.h>
+#include <lcm/lcm-cpp.hpp>
 #include <saccade/command_t.hpp>
 
 #include <chrono>
