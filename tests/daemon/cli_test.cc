@@ -2,6 +2,7 @@
 #include "core/segmentation.h"
 #include "io/cloud_io.h"
 #include "support/mosd_truth.h"
+#include "support/small_disk.h"
 #include "support/test_data.h"
 
 #include <saccade/detections_t.hpp>
@@ -597,18 +598,10 @@ TEST(Cli, RecordWritesDepthImagesIntrinsicsAndTruth) {
 // record stops with one line saying which file and why and exit 1; the frames written before
 // stay whole (each loads, with its truth row), and the frame that did not fit leaves nothing.
 TEST(Cli, RecordOnADiskThatFillsKeepsTheWholeFramesAndSaysWhy) {
-  if (geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs";
-  const std::string disk = ::testing::TempDir() + "saccade_full_disk_" + std::to_string(getpid());
-  std::filesystem::create_directories(disk);
-  if (std::system(("mount -t tmpfs -o size=8m tmpfs " + disk + " 2>/dev/null").c_str()) != 0)
-    GTEST_SKIP() << "cannot mount a tmpfs here";
-  struct Unmount {
-    std::string dir;
-    ~Unmount() {
-      (void)std::system(("umount " + dir).c_str());
-      std::filesystem::remove(dir);
-    }
-  } unmount{disk};
+  const saccade::testing::SmallDisk small(
+      ::testing::TempDir() + "saccade_full_disk_" + std::to_string(getpid()), "8m");
+  if (!small.mounted()) GTEST_SKIP() << "needs root to mount a small tmpfs";
+  const std::string& disk = small.dir();
   for (const std::string format : {"pcd", "depth"}) {
     const std::string dir = disk + "/" + format;
     const CliRun r = Saccade("record --source 'synthetic:static?loop=1&rate=0' --out " + dir +
@@ -690,20 +683,12 @@ TEST(Cli, EveryWriterOnAFullDiskSaysSoExitsOneAndLeavesNoHalfFile) {
     EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1) << out;
     EXPECT_EQ(out, "saccade segment: cannot write standard output (No space left on device)\n");
   }
-  if (geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs";
-  const std::string disk = ::testing::TempDir() + "saccade_no_room_" + std::to_string(getpid());
-  std::filesystem::create_directories(disk);
-  if (std::system(("mount -t tmpfs -o size=1m tmpfs " + disk + " 2>/dev/null").c_str()) != 0)
-    GTEST_SKIP() << "cannot mount a tmpfs here";
-  struct Unmount {
-    std::string dir;
-    ~Unmount() {
-      (void)std::system(("umount " + dir).c_str());
-      std::filesystem::remove(dir);
-    }
-  } unmount{disk};
+  const saccade::testing::SmallDisk small(
+      ::testing::TempDir() + "saccade_no_room_" + std::to_string(getpid()), "1m");
+  if (!small.mounted()) GTEST_SKIP() << "needs root to mount a small tmpfs";
+  const std::string& disk = small.dir();
   const std::string log = FrameLog(::testing::TempDir() + "saccade_no_room.lcmlog", 20);
-  (void)std::system(("dd if=/dev/zero of=" + disk + "/filler bs=4k 2>/dev/null").c_str());
+  small.Fill(0);
 
   struct Case {
     std::string args, file;

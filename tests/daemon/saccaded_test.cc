@@ -5,6 +5,7 @@
 #include "io/command_key.h"
 #include "io/config.h"
 #include "support/processes.h"
+#include "support/small_disk.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -216,6 +217,12 @@ class StatusWatch {
   }
   /// Waits for a fixation that satisfies `done` among those received since the last
   /// successful call (none is missed while waiting for something else).
+  /// True once the daemon has processed ten frames more than when this is called.
+  bool ProcessesTenMoreFrames() {
+    std::int64_t before = 0;
+    WaitFor([&](const saccade::status_t& s) { return (before = s.frames_processed) > 0; });
+    return WaitFor([&](const saccade::status_t& s) { return s.frames_processed > before + 10; });
+  }
   bool WaitForFixation(const std::function<bool(const saccade::fixation_t&)>& done) {
     return saccade::WaitFor([&] {
       lcm_.handleTimeout(50);
@@ -716,6 +723,14 @@ TEST(Saccaded, StraySignalsAndAClosedStderrDoNotStopTheHandlingOfSigterm) {
   EXPECT_EQ(daemon.Wait().code, 0);
 }
 
+// saccaded on configs/demo.yaml over a synthetic scene looping at 10 Hz, on the box's LCM; its
+// stdout and stderr in the box's out and err.
+Child DemoDaemon(const Sandbox& box) {
+  return Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
+               box.Path("out"), box.Path("err"));
+}
+
 // Commands built to hurt: models that are devices, pipes, /proc entries or folders, lying
 // string lengths (0, negative, INT32_MIN, past the end), and a flood. Each is rejected and
 // counted, the log stays short (the first five a second are said), and the daemon still
@@ -723,9 +738,7 @@ TEST(Saccaded, StraySignalsAndAClosedStderrDoNotStopTheHandlingOfSigterm) {
 TEST(Saccaded, HostileCommandsAreRejectedCountedAndSurvived) {
   Sandbox box;
   StatusWatch watch(box.url);
-  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
-                        "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
-                       box.Path("out"), box.Path("err"));
+  Child daemon = DemoDaemon(box);
   ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
   int sent = 0;
   // Each burst is counted before the next is sent: a burst larger than the socket's buffer
@@ -764,14 +777,7 @@ TEST(Saccaded, HostileCommandsAreRejectedCountedAndSurvived) {
       watch.lcm().publish("SACCADE_COMMAND", flood, sizeof flood);
     EXPECT_TRUE(all_counted()) << ReadFile(box.Path("err"));
   }
-  const std::int64_t before = [&] {
-    std::int64_t n = 0;
-    watch.WaitFor([&](const saccade::status_t& s) { return (n = s.frames_processed) > 0; });
-    return n;
-  }();
-  EXPECT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
-    return s.frames_processed > before + 10;  // still tracking
-  }));
+  EXPECT_TRUE(watch.ProcessesTenMoreFrames());  // still tracking
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0);
   const std::string err = ReadFile(box.Path("err"));
@@ -903,9 +909,7 @@ TEST(Saccaded, WithAKeyOnlySignedCommandsAreActedOnAndReplaysAreRefused) {
 TEST(Saccaded, ASixtyKilobyteModelPathIsRefusedAndCounted) {
   Sandbox box;
   StatusWatch watch(box.url);
-  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
-                        "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
-                       box.Path("out"), box.Path("err"));
+  Child daemon = DemoDaemon(box);
   ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
   saccade::command_t huge{};
   huge.kind = saccade::command_t::SWITCH_MODEL;
@@ -1045,9 +1049,7 @@ TEST(Saccaded, LogFixationsWritesWhatTheDaemonPublishesLive) {
       Spawn({kSaccade, "log-fixations", "--out", out, "--count", "5", "--lcm-url", box.url},
             box.Path("log.out"), box.Path("log.err"));
   // A source that loops: the logger gets its 5 whenever it is ready.
-  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
-                        "synthetic:static?rate=10&loop=1", "--lcm-url", box.url},
-                       box.Path("out"), box.Path("err"));
+  Child daemon = DemoDaemon(box);
   EXPECT_EQ(logger.Wait().code, 0) << ReadFile(box.Path("log.err"));
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0);
@@ -1073,19 +1075,11 @@ TEST(Saccaded, LogFixationsWritesWhatTheDaemonPublishesLive) {
 // ends with exit 1 and one line saying why and how many it kept; the file holds exactly those,
 // each line whole; the daemon publishes on.
 TEST(Saccaded, LogFixationsOnADiskThatFillsKeepsEveryWholeLineAndSaysWhy) {
-  if (geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs";
   Sandbox box;
-  const std::string disk = box.Path("disk");
-  fs::create_directories(disk);
-  if (std::system(("mount -t tmpfs -o size=64k tmpfs " + disk + " 2>/dev/null").c_str()) != 0)
-    GTEST_SKIP() << "cannot mount a tmpfs here";
-  struct Unmount {
-    std::string dir;
-    ~Unmount() { (void)std::system(("umount " + dir).c_str()); }
-  } unmount{disk};
-  ASSERT_EQ(
-      std::system(("dd if=/dev/zero of=" + disk + "/filler bs=4k count=15 2>/dev/null").c_str()),
-      0);
+  const saccade::testing::SmallDisk small(box.Path("disk"), "64k");
+  if (!small.mounted()) GTEST_SKIP() << "needs root to mount a small tmpfs";
+  const std::string& disk = small.dir();
+  small.Fill(4);
   StatusWatch watch(box.url);
   Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
                         "synthetic:static?rate=30&loop=1", "--lcm-url", box.url},
@@ -1110,14 +1104,7 @@ TEST(Saccaded, LogFixationsOnADiskThatFillsKeepsEveryWholeLineAndSaysWhy) {
   std::getline(lines, header);
   const auto fields = std::count(header.begin(), header.end(), ',');
   while (std::getline(lines, line)) EXPECT_EQ(std::count(line.begin(), line.end(), ','), fields);
-  const std::int64_t before = [&] {
-    std::int64_t n = 0;
-    watch.WaitFor([&](const saccade::status_t& s) { return (n = s.frames_processed) > 0; });
-    return n;
-  }();
-  EXPECT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
-    return s.frames_processed > before + 10;  // publishing on
-  }));
+  EXPECT_TRUE(watch.ProcessesTenMoreFrames());  // publishing on
   daemon.Signal(SIGTERM);
   EXPECT_EQ(daemon.Wait().code, 0);
 }
