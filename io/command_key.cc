@@ -155,7 +155,6 @@ bool CommandGate::Admit(const void* data, std::size_t size, std::string* why) {
                            : "a wrong signature (another key, or a changed message)");
   }
   const std::int64_t utime = BigEndian64(bytes + kUtimeOffset);
-  const std::int64_t sequence = BigEndian64(bytes + kSequenceOffset);
   const std::int64_t now = now_();
   // Forget what is too old to be admitted again anyway.
   while (!seen_.empty() && seen_.begin()->first < now - max_age_us_) seen_.erase(seen_.begin());
@@ -169,12 +168,12 @@ bool CommandGate::Admit(const void* data, std::size_t size, std::string* why) {
                   age_s >= 0 ? "ago" : "ahead of the daemon's clock", max_age_us_ * 1e-6);
     return Fail(why, text);
   }
-  if (seen_.count({utime, sequence}))
+  if (seen_.count({utime, mac}))
     return Fail(why, "a replay (this signed command was acted on already)");
   if (seen_.size() >= kMaxRemembered)
     return Fail(why, "more than " + std::to_string(kMaxRemembered) +
                          " signed commands within lcm.command_max_age_s");
-  seen_.insert({utime, sequence});
+  seen_.insert({utime, mac});
   return true;
 }
 

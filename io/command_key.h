@@ -44,8 +44,9 @@ class CommandGate {
   CommandGate(const Digest& key, double max_age_s, std::function<std::int64_t()> now_utime);
 
   /// True when `data` is a command_t signed with the key, sent within max_age_s of now (either
-  /// way: the sender's clock may run ahead), and not accepted before (same utime and
-  /// sequence). Else false with one line: unsigned, a wrong signature, too old, a replay.
+  /// way: the sender's clock may run ahead), and not accepted before (the same bytes, so the
+  /// same signature; a sender tells two alike commands apart by their utime or sequence).
+  /// Else false with one line: unsigned, a wrong signature, too old, a replay.
   bool Admit(const void* data, std::size_t size, std::string* why);
 
   /// At most this many signed commands are remembered within max_age_s; beyond, one is refused.
@@ -55,7 +56,7 @@ class CommandGate {
   Digest key_;
   std::int64_t max_age_us_;
   std::function<std::int64_t()> now_;
-  std::set<std::pair<std::int64_t, std::int64_t>> seen_;  // (utime, sequence), oldest first
+  std::set<std::pair<std::int64_t, Digest>> seen_;  // (utime, signature), oldest first
 };
 
 }  // namespace saccade

@@ -4,6 +4,7 @@
 -- encoded command_t before its last 32, which it fills.
 local lcm = require('lcm')
 local hmac = require('openssl.hmac')
+local rand = require('openssl.rand')
 local saccade = require('saccade')
 
 local url, key_file, kind = arg[1], arg[2], arg[3]
@@ -17,7 +18,9 @@ local key = hex:gsub('..', function(h) return string.char(tonumber(h, 16)) end)
 
 local m = saccade.command_t:new()
 m.utime = os.time() * 1000000  -- microseconds since the epoch (whole seconds suffice)
-m.sequence = 0  -- a program sending several commands counts them: 0, 1, 2, ...
+-- Lua's clock has whole seconds: a random sequence tells apart two alike commands of a second.
+local r = rand.bytes(4)
+m.sequence = ((r:byte(1) % 128) * 256 + r:byte(2)) * 65536 + r:byte(3) * 256 + r:byte(4)
 m.kind = ({pause = saccade.command_t.PAUSE, resume = saccade.command_t.RESUME,
            reset = saccade.command_t.RESET, fovea = saccade.command_t.SET_FOVEA})[kind]
 assert(m.kind, 'unknown command ' .. kind)
