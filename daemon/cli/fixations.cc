@@ -45,8 +45,16 @@ bool OpenOutput(const Args& args, std::ostream& out, Output* output, std::string
   const std::string path = args.Get("out");
   FixationWriter::Format format;
   if (!OutputFormat(args, &format, error)) return false;
-  if (path != "-" && !output->file.Open(path, error)) return false;
   output->writer = std::make_unique<FixationWriter>(path == "-" ? out : output->pending, format);
+  if (path == "-") return true;
+  // The header goes in at once: a log of no fixation is still a table.
+  if (!output->file.Open(path, error)) return false;
+  if (!output->file.Append(output->pending.str(), error)) {
+    output->file.Close(nullptr);
+    std::remove(path.c_str());  // not even a header fitted: no file
+    return false;
+  }
+  output->pending.str("");
   return true;
 }
 
