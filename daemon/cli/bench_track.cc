@@ -12,6 +12,7 @@
 #include "core/recognition.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
+#include "daemon/cli/progress.h"
 #include "daemon/latency_histogram.h"
 #include "daemon/settings.h"
 #include "daemon/tbb_parallel.h"
@@ -260,7 +261,9 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
   double busy_until_s = 0;  // the simulated clock: when the tracker is free again
   std::optional<std::pair<Frame, std::size_t>> pending;  // arrived while it was busy
   Frame frame;
+  ProgressLine progress(err, ProgressLine::StderrIsATerminal());  // on a terminal only
   for (std::size_t i = 0; !max_frames || i < std::size_t(*max_frames); ++i) {
+    progress.Show("saccade bench-track: frames", i, max_frames ? std::size_t(*max_frames) : 0);
     const FrameSource::Status st = source->Next(&frame, &error);
     if (st == FrameSource::Status::kError) {
       err << "saccade bench-track: " << error << "\n";
@@ -306,6 +309,7 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
     }
   }
   if (pending) process(std::move(pending->first), pending->second);
+  progress.Clear();
 
   if (args.Has("frames-out")) {  // one JSON line per frame, for a look at what happened
     std::string log;

@@ -10,6 +10,7 @@
 #include "core/segmentation.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
+#include "daemon/cli/progress.h"
 #include "daemon/eval/evaluation.h"
 #include "daemon/eval/library_bench.h"
 #include "daemon/eval/overlays.h"
@@ -341,6 +342,10 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   if (ec) return fail(dir.string() + ": cannot create it (" + ec.message() + ")");
   Runner runner(models, MakeTbbParallelFor(), *repeat);
   runner.MeasureTexture(args.Has("texture"));
+  // On a terminal, a line redrawn with the scenes done and the time left.
+  ProgressLine progress(err, ProgressLine::StderrIsATerminal());
+  std::string step;  // what the runner runs now
+  runner.Report([&](std::size_t done, std::size_t total) { progress.Show(step, done, total); });
   // Per configuration: the trials with the fovea on the truth, and for swept ones the Fig. 10
   // offsets too (the first of which is the truth itself).
   const std::vector<Eigen::Vector3f> sweep_offsets = SweepOffsets();
@@ -352,6 +357,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     const bool sweep =
         std::find(sweep_names.begin(), sweep_names.end(), configs[c].name) != sweep_names.end();
     std::vector<std::vector<Trial>> per_offset;
+    step = "saccade eval: configuration " + configs[c].name;
     if (!runner.Run(
             configs[c], scenes, sweep ? sweep_offsets.size() : 1,
             [&](std::size_t k, std::size_t i) { return scenes[i].truth_m + sweep_offsets[k]; },
@@ -360,6 +366,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
     trials[c] = per_offset.front();
     mean_ms[c] = MeanMs(trials[c]);
     if (sweep) swept[c] = std::move(per_offset);
+    progress.Clear();
     err << "saccade eval: configuration " << configs[c].name << " done\n";
   }
   if (cases) {
@@ -376,6 +383,8 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
         std::vector<std::vector<Trial>> per;
         std::vector<std::vector<Acquisition>> acquisitions;
         const bool acquire = p == eval::Protocol::kAcquisition;
+        step = "saccade eval: configuration " + configs[c].name + ", protocol " +
+               eval::ProtocolName(p);
         if (p == eval::Protocol::kOnObject) {
           run.trials = trials[c];
         } else if (!runner.Run(
@@ -391,6 +400,7 @@ int RunEval(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
           if (acquire) run.acquisitions = std::move(acquisitions.front());
         }
         runs[c].push_back(std::move(run));
+        progress.Clear();
         err << "saccade eval: configuration " << configs[c].name << ", protocol "
             << eval::ProtocolName(p) << " done\n";
       }

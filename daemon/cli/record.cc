@@ -2,6 +2,7 @@
 // truth), an .oni recording, or a fakenect dump (a Kinect v1's raw frames).
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
+#include "daemon/cli/progress.h"
 #include "daemon/signals.h"
 #include "io/fakenect_dump.h"
 #include "io/frame_source.h"
@@ -96,12 +97,15 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
   int taken = 0;
   Frame frame;
   int code = kExitOk;
+  ProgressLine progress(err, ProgressLine::StderrIsATerminal());  // on a terminal only
   while (!frames || taken < *frames) {
+    progress.Show("saccade record: frames", std::size_t(taken), frames ? std::size_t(*frames) : 0);
     const auto status = source->Next(&frame, &error);
     if (status == FrameSource::Status::kEnd) break;
     if (status == FrameSource::Status::kError ||
         (format != "oni" && !writer && !dump && !open_output(&error)) ||
         (writer && !writer->Write(frame, &error)) || (dump && !dump->Write(frame, &error))) {
+      progress.Clear();
       err << "saccade record: " << error << "\n";
       code = kExitFailure;
       break;
@@ -112,6 +116,7 @@ int RunRecord(const std::vector<std::string>& argv, std::ostream& out, std::ostr
     err << "saccade record: " << error << "\n";
     code = kExitFailure;
   }
+  progress.Clear();
   if (auto* openni = dynamic_cast<OpenNI2Source*>(source.get())) openni->StopRecording();
   {
     std::lock_guard<std::mutex> lock(running_mutex);

@@ -194,6 +194,7 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
             Acquire(*described[s.model], s, q, o, search, proposed, median->instances));
       median->evidence = evidence;
       (*trials)[k].push_back(std::move(*median));
+      if (tick_) tick_(k * scenes.size() + i + 1, placements * scenes.size());
     }
   }
   return true;

@@ -123,6 +123,9 @@ class Runner {
   Runner(const std::vector<EvalModel>& models, ParallelFor parallel, int repeat);
   /// Also measure each instance's texture support (daemon/eval/texture.h), untimed.
   void MeasureTexture(bool on) { texture_ = on; }
+  /// Called after each scene of a Run with the scenes done and to do (placements x scenes).
+  using Tick = std::function<void(std::size_t done, std::size_t total)>;
+  void Report(Tick tick) { tick_ = std::move(tick); }
 
   /// Where the fovea is for placement k of scene i (camera frame, metres).
   using FoveaPlacement = std::function<Eigen::Vector3f(std::size_t k, std::size_t i)>;
@@ -150,6 +153,7 @@ class Runner {
   const ParallelFor parallel_;
   const int repeat_;
   bool texture_ = false;
+  Tick tick_;
 };
 
 /// True and false positives of the trials over the scenes at `threshold` metres, against the

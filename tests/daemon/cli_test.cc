@@ -714,6 +714,29 @@ TEST(Cli, EveryWriterOnAFullDiskSaysSoExitsOneAndLeavesNoHalfFile) {
     EXPECT_EQ(e.path().string().find(".part"), std::string::npos) << e.path() << " left behind";
 }
 
+// Long commands show their progress on a terminal (a pseudo-terminal from script(1)): one line
+// redrawn with \r, cleared before the summary; in a pipe, as in logs and CI, none of it.
+TEST(Cli, RecordShowsProgressOnATerminalAndNotInAPipe) {
+  const std::string dir = ::testing::TempDir() + "saccade_progress_" + std::to_string(getpid());
+  const std::string record = std::string(SACCADE_BINARY) +
+                             " record --source 'synthetic:static?rate=0&loop=1' --frames 40 --out ";
+  std::filesystem::remove_all(dir);
+  const CliRun piped = Saccade(
+      "record --source 'synthetic:static?rate=0&loop=1' --frames 40 --out " + dir + "/piped");
+  EXPECT_EQ(piped.code, 0) << piped.out;
+  EXPECT_EQ(piped.out.find('\r'), std::string::npos) << piped.out;
+  FILE* pipe = popen(("script -qec \"" + record + dir + "/tty\" /dev/null 2>&1").c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (std::fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  const int status = pclose(pipe);
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0) << out;
+  EXPECT_NE(out.find("\rsaccade record: frames: 0/40 (0%)"), std::string::npos) << out;
+  EXPECT_NE(out.find("recorded 40 frame(s)"), std::string::npos) << out;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Cli, RecordOniNeedsAnOpenNI2Source) {
   const CliRun r = Saccade("record --source synthetic:static --out /tmp/x --format oni");
   EXPECT_EQ(r.code, 2);
