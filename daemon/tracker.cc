@@ -386,7 +386,12 @@ bool Tracker::Run(std::string* error) {
   // the run's mean); then the run in one line: what a benchmark of the daemon reads.
   const double seconds = std::max(1e-3, Seconds(s.started_ns, SteadyNowNs()));
   s.PublishStatus(seconds, true);
-  Log(LogLevel::kInfo, s.publish.RunLine(seconds, s.source->Stats()));
+  std::string run = s.publish.RunLine(seconds, s.source->Stats());
+  const std::int64_t accepted = s.bus->AcceptedCommands(), rejected = s.bus->RejectedCommands();
+  if (accepted + rejected > 0)
+    run += "; commands: " + std::to_string(accepted) + " acted on, " + std::to_string(rejected) +
+           " refused";
+  Log(LogLevel::kInfo, run);
   if (!source_error.empty()) {
     return Fail(error, "source " + s.settings.source.spec + ": " + source_error);
   }

@@ -899,6 +899,7 @@ TEST(Saccaded, WithAKeyOnlySignedCommandsAreActedOnAndReplaysAreRefused) {
   EXPECT_NE(err.find("a replay (this signed command was acted on already)"), std::string::npos)
       << err;
   EXPECT_NE(err.find("unsigned (commands must be signed"), std::string::npos) << err;
+  EXPECT_NE(err.find("; commands: 2 acted on, 1001 refused"), std::string::npos) << err;
   EXPECT_LT(std::count(err.begin(), err.end(), '\n'), 80) << "the refusals flooded the log";
 }
 
