@@ -60,7 +60,7 @@ namespace {
 // then the model string as a big-endian int32 length (its bytes with the final NUL) and the
 // bytes, then the signature (32).
 constexpr std::size_t kCommandFixedBytes = 8 + 8 + 8 + 1 + 24;
-constexpr std::size_t kSignatureBytes = 32;
+constexpr std::size_t kSignatureBytes = kCommandSignatureBytes;  // io/command_key.h
 constexpr std::int32_t kMaxModelBytes = 4096;
 
 }  // namespace

@@ -18,7 +18,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 namespace saccade {
 
@@ -27,7 +26,7 @@ namespace {
 // command_t's layout (io/lcmtypes/command_t.lcm): the type's 8-byte hash, utime and sequence
 // (big-endian int64 each), ..., the 32-byte signature last.
 constexpr std::size_t kUtimeOffset = 8, kSequenceOffset = 16;
-constexpr std::size_t kSignatureBytes = 32;
+constexpr std::size_t kSignatureBytes = kCommandSignatureBytes;
 constexpr std::size_t kMinSignedBytes = kSequenceOffset + 8 + kSignatureBytes;
 
 std::int64_t BigEndian64(const std::uint8_t* p) {

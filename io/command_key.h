@@ -18,6 +18,9 @@ inline constexpr const char* kDefaultCommandKeyPath = "/etc/saccade/command.key"
 
 using Digest = std::array<std::uint8_t, 32>;
 
+/// The signature: command_t's last field, its last 32 bytes on the wire.
+inline constexpr std::size_t kCommandSignatureBytes = 32;
+
 /// HMAC-SHA256 of `size` bytes with `key` (OpenSSL's).
 Digest HmacSha256(const Digest& key, const void* data, std::size_t size);
 
