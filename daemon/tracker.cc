@@ -80,6 +80,7 @@ struct Tracker::Impl {
   std::unique_ptr<Bus> bus;
   const Heartbeat heartbeat;
   const std::int64_t started_ns = SteadyNowNs();
+  std::int64_t datagrams_dropped = 0;  // by the kernel, as of the last status (its thread's)
 
   RecognizeStage recognize;
   TrackStage track;
@@ -204,6 +205,13 @@ StatusReport Tracker::Impl::PublishStatus(double period_s, bool final) {
   s.source_reconnects = static_cast<std::int64_t>(source_stats.reconnects);
   s.commands_accepted = bus->AcceptedCommands();
   s.commands_rejected = bus->RejectedCommands();
+  s.lcm_datagrams_dropped = bus->DroppedDatagrams();
+  if (s.lcm_datagrams_dropped > datagrams_dropped)
+    Log(LogLevel::kWarning,
+        "LCM: the kernel dropped " + std::to_string(s.lcm_datagrams_dropped - datagrams_dropped) +
+            " datagram(s) before saccaded could read them (a full receive buffer: a message "
+            "larger than net.core.rmem_max, or a flood); a command among them was lost");
+  datagrams_dropped = s.lcm_datagrams_dropped;
   {
     std::lock_guard<std::mutex> lock(run_mutex);
     s.paused = paused;
@@ -391,6 +399,8 @@ bool Tracker::Run(std::string* error) {
   if (accepted + rejected > 0)
     run += "; commands: " + std::to_string(accepted) + " acted on, " + std::to_string(rejected) +
            " refused";
+  if (s.datagrams_dropped > 0)
+    run += "; LCM datagrams dropped by the kernel: " + std::to_string(s.datagrams_dropped);
   Log(LogLevel::kInfo, run);
   if (!source_error.empty()) {
     return Fail(error, "source " + s.settings.source.spec + ": " + source_error);

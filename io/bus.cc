@@ -273,6 +273,7 @@ class LcmBus : public Bus {
     m.fps = s.fps;
     m.commands_accepted = s.commands_accepted;
     m.commands_rejected = s.commands_rejected;
+    m.lcm_datagrams_dropped = s.lcm_datagrams_dropped;
     m.fixation_lag_max = s.fixation_lag_max;
     m.mode = static_cast<std::int8_t>(s.mode);
     for (const LatencyReport& l : s.stages) {
@@ -301,6 +302,7 @@ class LcmBus : public Bus {
 
   std::int64_t AcceptedCommands() const override { return accepted_; }
   std::int64_t RejectedCommands() const override { return rejected_; }
+  std::int64_t DroppedDatagrams() const override { return LcmDatagramsDropped(options_.url); }
 
   std::string Describe() const override {
     std::string commands = "off";

@@ -39,6 +39,8 @@ struct StatusReport {
   std::int64_t frames_unsent = 0;   // processed, but LCM refused their detections or fixation
   float fps = 0;
   std::int64_t commands_accepted = 0, commands_rejected = 0;
+  /// Datagrams the kernel dropped from the LCM socket: commands that never arrived among them.
+  std::int64_t lcm_datagrams_dropped = 0;
   int fixation_lag_max = 0;
   AttentionMode mode = AttentionMode::kSearching;
   std::vector<LatencyReport> stages;
@@ -162,6 +164,9 @@ class Bus {
   /// range, or refused by the handler. Each rejection is also logged as a warning.
   virtual std::int64_t AcceptedCommands() const = 0;
   virtual std::int64_t RejectedCommands() const = 0;
+  /// Datagrams the kernel dropped before the bus could read them (a full receive buffer: a
+  /// message larger than it, or a flood), since the bus opened; 0 where nothing is dropped.
+  virtual std::int64_t DroppedDatagrams() const { return 0; }
   virtual std::string Describe() const = 0;
 };
 

@@ -8,6 +8,11 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
 
 namespace saccade {
 
@@ -74,6 +79,62 @@ std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url, std::string* error) {
   Fail(error, "cannot open LCM at '" + url + "'" + (reason.empty() ? "" : ": " + reason) +
                   " (a malformed URL, or no multicast route: see docs/LCM.md)");
   return nullptr;
+}
+
+namespace {
+
+// The port of a udpm:// URL ("udpm://239.255.76.67:7667?ttl=0"), 7667 when it names none; 0
+// for another provider.
+unsigned UdpmPort(const std::string& url) {
+  if (url.rfind("udpm://", 0) != 0) return 0;
+  const std::string address =
+      url.substr(7, url.find('?') == std::string::npos ? std::string::npos : url.find('?') - 7);
+  const std::size_t colon = address.rfind(':');
+  if (colon == std::string::npos) return 7667;
+  const unsigned long port = std::strtoul(address.c_str() + colon + 1, nullptr, 10);
+  return port > 0 && port < 65536 ? static_cast<unsigned>(port) : 0;
+}
+
+// The inodes of this process's sockets, from its /proc/self/fd links ("socket:[1234]").
+std::set<std::string> SocketInodes() {
+  std::set<std::string> inodes;
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it("/proc/self/fd", ec), end; !ec && it != end;
+       it.increment(ec)) {
+    const std::string target = std::filesystem::read_symlink(it->path(), ec).string();
+    if (!ec && target.rfind("socket:[", 0) == 0 && target.back() == ']')
+      inodes.insert(target.substr(8, target.size() - 9));
+    ec.clear();
+  }
+  return inodes;
+}
+
+}  // namespace
+
+std::int64_t LcmDatagramsDropped(const std::string& url) {
+  const unsigned port = UdpmPort(url);
+  if (port == 0) return 0;
+  const std::set<std::string> inodes = SocketInodes();
+  char port_hex[8];
+  std::snprintf(port_hex, sizeof port_hex, "%04X", port);
+  std::int64_t dropped = 0;
+  for (const char* table : {"/proc/net/udp", "/proc/net/udp6"}) {
+    std::ifstream in(table);
+    std::string line;
+    std::getline(in, line);  // the header
+    // sl local_address rem_address st tx:rx tr:when retrnsmt uid timeout inode ref pointer drops
+    while (std::getline(in, line)) {
+      std::istringstream fields(line);
+      std::string f[13];
+      for (std::string& field : f) fields >> field;
+      const std::size_t colon = f[1].rfind(':');
+      if (f[12].empty() || colon == std::string::npos || f[1].substr(colon + 1) != port_hex ||
+          inodes.count(f[9]) == 0)
+        continue;
+      dropped += std::strtoll(f[12].c_str(), nullptr, 10);
+    }
+  }
+  return dropped;
 }
 
 }  // namespace saccade

@@ -1,6 +1,7 @@
 // Opening LCM with liblcm's own reason for refusing a URL in Saccade's one-line error.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -16,5 +17,12 @@ namespace saccade {
 /// runs stderr goes to a pipe: a line another thread writes meanwhile (a signal's log line) is
 /// printed after it, or folded into the reason when the URL is refused.
 std::unique_ptr<lcm::LCM> OpenLcm(const std::string& url, std::string* error);
+
+/// The datagrams the kernel has dropped, since they were opened, on this process's UDP sockets
+/// bound to `url`'s port (udpm://, 7667 when the URL names none): what a full receive buffer
+/// cost, a large message's fragments beyond `net.core.rmem_max` or a flood. Read from
+/// /proc/net/udp and udp6 (the sockets matched by inode from /proc/self/fd); 0 for another
+/// provider or when /proc cannot say.
+std::int64_t LcmDatagramsDropped(const std::string& url);
 
 }  // namespace saccade

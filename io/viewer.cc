@@ -211,6 +211,7 @@ std::string ViewerState::StateJson(double now_s) const {
     j.Key("frames_skipped").Value(static_cast<long long>(m.frames_skipped));
     j.Key("frames_unsent").Value(static_cast<long long>(m.frames_unsent));
     j.Key("commands_rejected").Value(static_cast<long long>(m.commands_rejected));
+    j.Key("lcm_datagrams_dropped").Value(static_cast<long long>(m.lcm_datagrams_dropped));
     j.Key("stages").BeginObject();
     for (const saccade::stage_latency_t& st : m.stages) {
       j.Key(st.name).BeginObject().Key("samples").Value(st.samples);

@@ -929,6 +929,37 @@ TEST(Saccaded, ASixtyKilobyteModelPathIsRefusedAndCounted) {
   for (std::string line; std::getline(lines, line);) EXPECT_LE(line.size(), 500u);
 }
 
+// A 1 MB command goes out in 16 LCM fragments; beyond the socket's receive buffer
+// (net.core.rmem_max, 208 KB by default) the kernel drops them and the command never reaches
+// saccaded. Either way it is accounted for: refused when it arrives whole, else counted in
+// STATUS as datagrams dropped by the kernel, with a warning saying a command may be among them.
+TEST(Saccaded, AMegabyteCommandIsRefusedOrCountedAsDroppedByTheKernel) {
+  Sandbox box;
+  StatusWatch watch(box.url);
+  Child daemon = DemoDaemon(box);
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
+  saccade::command_t huge{};
+  huge.kind = saccade::command_t::SWITCH_MODEL;
+  huge.model = "/var/lib/saccade/models/" + std::string(1 << 20, 'a') + ".pcd";
+  watch.lcm().publish("SACCADE_COMMAND", &huge);
+  saccade::status_t seen{};
+  EXPECT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
+    seen = s;
+    return s.commands_rejected == 1 || s.lcm_datagrams_dropped > 0;
+  })) << ReadFile(box.Path("err"));
+  EXPECT_EQ(seen.commands_accepted, 0);
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0);
+  const std::string err = ReadFile(box.Path("err"));
+  if (seen.lcm_datagrams_dropped > 0) {
+    EXPECT_NE(err.find("LCM: the kernel dropped "), std::string::npos) << err.substr(0, 2000);
+    EXPECT_NE(err.find("LCM datagrams dropped by the kernel: "), std::string::npos);
+  } else {
+    EXPECT_NE(err.find("command rejected on SACCADE_COMMAND: malformed message"), std::string::npos)
+        << err.substr(0, 2000);
+  }
+}
+
 // demo.yaml with the source a camera (`spec`) waited for `wait_s` at start.
 std::string LateCameraConfig(const Sandbox& box, double wait_s,
                              const std::string& spec = "openni2://") {
