@@ -120,6 +120,7 @@ struct FrameDetections {
   float track_ms = 0;      // refining every track and taking recognition's instances
   std::vector<Detection> instances;
   std::vector<std::string> models;  // the searched models' names, indexed by Detection::model
+  std::vector<Eigen::Vector3f> model_extents_m;  // their sizes along their own axes, likewise
 };
 
 }  // namespace saccade

@@ -59,6 +59,7 @@ bool LoadSettings(const saccade::Args& args, saccade::DaemonSettings* settings,
   if (args.Has("source")) s.source.spec = args.Get("source");
   if (args.Has("model")) s.models = {args.Get("model")};
   if (args.Has("lcm-url")) s.bus.url = args.Get("lcm-url");
+  if (args.Has("ros2")) s.ros2.enabled = true;
   if (s.models.empty()) {
     return saccade::Fail(error, "no model: set 'model' in the config file or pass --model");
   }
@@ -87,8 +88,12 @@ int main(int argc, char** argv) {
              "record --help; docs/SOURCES.md)")
       .Value("model", "M.pcd", "the object's model, over the file's 'model'")
       .Value("lcm-url", "URL", "the LCM network, over the file's 'lcm.url'")
-      .Switch("quiet", "no status line a second on a terminal (service.summary: auto)")
-      .Footer(kFooter);
+      .Switch("quiet", "no status line a second on a terminal (service.summary: auto)");
+  if (Ros2Built())  // a build without Cyclone DDS has no ROS 2
+    args.Switch("ros2",
+                "also publish on ROS 2's wire (Cyclone DDS): detections, fixation, diagnostics "
+                "(docs/ROS2.md; ros2.enabled)");
+  args.Footer(kFooter);
   if (auto code = args.Parse(argv_list, std::cout, std::cerr)) return *code;
   std::string error;
   DaemonSettings settings;

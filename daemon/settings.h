@@ -11,6 +11,7 @@
 #include "core/saliency.h"
 #include "io/bus.h"
 #include "io/log.h"
+#include "io/ros2/ros2.h"
 
 #include <string>
 #include <vector>
@@ -99,6 +100,7 @@ struct DaemonSettings {
   BusOptions bus;
   ServiceOptions service;
   PreviewOptions preview;  // PREFIX_PREVIEW, for viewers (saccade view)
+  Ros2Options ros2;        // the same messages on ROS 2's wire (docs/ROS2.md)
 
   bool IsValid(std::string* error) const;
   bool operator==(const DaemonSettings& o) const { return SameFields(*this, o); }
@@ -119,6 +121,7 @@ struct DaemonSettings {
     a->Section("robot_frame", &bus.robot);
     a->Section("service", &service);
     a->Section("preview", &preview);
+    a->Section("ros2", &ros2);
   }
 };
 

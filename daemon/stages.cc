@@ -96,8 +96,12 @@ std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
       return std::nullopt;
     }
     const ModelSignature signature = SignModel(d->cloud(), d->scale().spacing_m);
-    models.push_back(
-        std::make_shared<const NamedModel>(NamedModel{spec, std::move(*d), signature}));
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+    for (const PointT& p : d->cloud())
+      if (FinitePoint(p)) lo = lo.cwiseMin(p.getVector3fMap()), hi = hi.cwiseMax(p.getVector3fMap());
+    const Eigen::Vector3f extent = (hi - lo).cwiseMax(0.0f);
+    models.push_back(std::make_shared<const NamedModel>(
+        NamedModel{spec, std::move(*d), signature, extent}));
   }
   return models;
 }
@@ -164,7 +168,10 @@ void RecognizeStage::Process(Job* job) {
   out.fovea_m = q.fovea_m;
   out.growth_m = q.fovea.growth_m.x();
   out.fixation_seq = job->used.frame_seq;
-  for (const auto& model : c.models) out.models.push_back(model->name);
+  for (const auto& model : c.models) {
+    out.models.push_back(model->name);
+    out.model_extents_m.push_back(model->extent_m);
+  }
   if (!job->recognize) return;  // the tracks hold: recognize_ms stays 0
   // Verification compares colour only when both sides have it: say once when they differ.
   if (!colour_checked_.exchange(true) && !HasColour(*frame.cloud))

@@ -28,6 +28,7 @@ std::vector<std::string> NeedRestart(const DaemonSettings& was, const DaemonSett
   if (next.source != was.source) kept.push_back("source");
   if (next.bus != was.bus) kept.push_back("lcm/robot_frame");
   if (next.pipeline != was.pipeline) kept.push_back("pipeline");
+  if (next.ros2 != was.ros2) kept.push_back("ros2");
   return kept;
 }
 
@@ -303,7 +304,12 @@ std::unique_ptr<Tracker> Tracker::Open(const DaemonSettings& settings, Heartbeat
                                        std::string* error) {
   std::optional<Models> models = DescribeModels(settings.models, settings.recognition, error);
   if (!models) return nullptr;
-  std::unique_ptr<Bus> bus = OpenLcmBus(settings.bus, error);
+  std::unique_ptr<MessageMirror> ros2;
+  if (settings.ros2.enabled) {
+    ros2 = OpenRos2Mirror(settings.ros2, settings.bus.robot, error);
+    if (!ros2) return nullptr;
+  }
+  std::unique_ptr<Bus> bus = OpenLcmBus(settings.bus, error, std::move(ros2));
   if (!bus) return nullptr;
   std::unique_ptr<FrameSource> source =
       OpenSource(settings.source.spec, error, settings.source.wait_at_start_s);

@@ -163,8 +163,9 @@ void Copy3(const Vec& v, double out[3]) {
 
 class LcmBus : public Bus {
  public:
-  LcmBus(const BusOptions& options, BusOptions::Commands mode, std::unique_ptr<lcm::LCM> lcm)
-      : options_(options), mode_(mode), lcm_(std::move(lcm)) {
+  LcmBus(const BusOptions& options, BusOptions::Commands mode, std::unique_ptr<lcm::LCM> lcm,
+         std::unique_ptr<MessageMirror> mirror)
+      : options_(options), mode_(mode), lcm_(std::move(lcm)), mirror_(std::move(mirror)) {
     frame_name_ = options_.robot.enabled ? options_.robot.name : "camera";
     detections_channel_ = DetectionsChannel(options_.channel_prefix);
     fixation_channel_ = FixationChannel(options_.channel_prefix);
@@ -254,6 +255,7 @@ class LcmBus : public Bus {
 
     std::lock_guard<std::mutex> lock(publish_mutex_);
     const bool ok = lcm_->publish(detections_channel_, &d) == 0;
+    if (mirror_) mirror_->Publish(d, f, frame.model_extents_m);
     return lcm_->publish(fixation_channel_, &f) == 0 && ok;
   }
 
@@ -286,6 +288,7 @@ class LcmBus : public Bus {
     }
     m.num_stages = static_cast<std::int32_t>(m.stages.size());
     std::lock_guard<std::mutex> lock(publish_mutex_);
+    if (mirror_) mirror_->PublishStatus(m);
     return lcm_->publish(status_channel_, &m) == 0;
   }
 
@@ -311,7 +314,7 @@ class LcmBus : public Bus {
     else if (mode_ == BusOptions::Commands::kOpen)
       commands = "open to this host";
     return options_.url + " (channels " + options_.channel_prefix + "_*, commands " + commands +
-           ")";
+           ")" + (mirror_ ? "; " + mirror_->Describe() : "");
   }
 
  private:
@@ -360,6 +363,7 @@ class LcmBus : public Bus {
   const BusOptions::Commands mode_;
   std::unique_ptr<CommandGate> gate_;
   std::unique_ptr<lcm::LCM> lcm_;
+  std::unique_ptr<MessageMirror> mirror_;  // guarded by publish_mutex_ once running
   std::string frame_name_;
   std::string detections_channel_, fixation_channel_, status_channel_, preview_channel_;
   Eigen::Isometry3f X_RC_;
@@ -426,11 +430,12 @@ bool BusOptions::IsValid(std::string* error) const {
   return true;
 }
 
-std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error) {
+std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error,
+                                std::unique_ptr<MessageMirror> mirror) {
   std::unique_ptr<lcm::LCM> lcm = OpenLcm(options.url, error);
   if (!lcm) return nullptr;
   const BusOptions::Commands mode = options.Resolved();
-  auto bus = std::make_unique<LcmBus>(options, mode, std::move(lcm));
+  auto bus = std::make_unique<LcmBus>(options, mode, std::move(lcm), std::move(mirror));
   if (mode == BusOptions::Commands::kOff) {
     if (options.commands == BusOptions::Commands::kAuto)
       Log(LogLevel::kWarning, "commands are off: no key at " + options.command_key +

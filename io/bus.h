@@ -22,6 +22,10 @@
 
 namespace saccade {
 
+class detections_t;  // the LCM types (io/lcmtypes), generated at build time
+class fixation_t;
+class status_t;
+
 struct LatencyReport {
   std::string name;
   int samples = 0;
@@ -170,9 +174,25 @@ class Bus {
   virtual std::string Describe() const = 0;
 };
 
+/// Another transport handed every message the LCM bus sends, as it sends it (ROS 2:
+/// io/ros2/ros2.h), so that both say the same of each frame. Called under the bus's publish
+/// lock; must not block for long.
+class MessageMirror {
+ public:
+  virtual ~MessageMirror() = default;
+  /// A frame's messages; `model_extents_m` is each model's size along its own axes, indexed
+  /// as instance_t.model.
+  virtual void Publish(const detections_t& detections, const fixation_t& fixation,
+                       const std::vector<Eigen::Vector3f>& model_extents_m) = 0;
+  virtual void PublishStatus(const status_t& status) = 0;
+  virtual std::string Describe() const = 0;
+};
+
 /// Opens LCM at options.url; with commands on, Subscribe starts a thread that receives them.
-/// nullptr with one line in `error` when LCM cannot be opened.
-std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error);
+/// Every message sent is also handed to `mirror` when given. nullptr with one line in `error`
+/// when LCM cannot be opened.
+std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error,
+                                std::unique_ptr<MessageMirror> mirror = nullptr);
 
 /// The channel names for a prefix.
 std::string DetectionsChannel(const std::string& prefix);

@@ -12,6 +12,7 @@ packages=(
   libtbb-dev libyaml-cpp-dev libopencv-contrib-dev
   libgtest-dev libgmock-dev libbenchmark-dev libpng-dev libtiff-dev
   libcli11-dev libsystemd-dev libssl-dev
+  cyclonedds-dev cyclonedds-tools
   liblcm-java liblcm-lua lua5.2 lua-luaossl default-jdk-headless python3 libjchart2d-java
   gnuplot-nox
   libcpp-httplib-dev libjpeg-dev zlib1g-dev chromium

@@ -61,6 +61,7 @@ class Child {
     }
   }
   void Signal(int signo) const { kill(pid_, signo); }
+  pid_t Pid() const { return pid_; }
   Exit Wait() {
     int status = 0;
     rusage usage{};

@@ -1,0 +1,283 @@
+// saccaded --ros2 heard as a ROS 2 node hears it: the DDS topics rt/saccade/detections,
+// rt/saccade/fixation and rt/diagnostics under ROS 2's type names, read with ROS 2's types
+// alone (io/ros2/idl compiled by idlc; none of Saccade's code), each message checked against
+// the LCM message saccaded sent for the same frame.
+#include "support/processes.h"
+
+#include <dds/dds.h>
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+#include <saccade/detections_t.hpp>
+#include <saccade/fixation_t.hpp>
+#include <sys/wait.h>
+
+#include "diagnostic_msgs.h"
+#include "geometry_msgs.h"
+#include "tf2_msgs.h"
+#include "vision_msgs.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+using saccade::testing::Child;
+using saccade::testing::ReadFile;
+using saccade::testing::Sandbox;
+using saccade::testing::Spawn;
+
+const std::string kSaccaded = SACCADED_BINARY;
+const std::string kSourceDir = SACCADE_SOURCE_DIR;
+
+std::int64_t Utime(const builtin_interfaces_msg_dds__Time_& t) {
+  return std::int64_t{t.sec} * 1000000 + t.nanosec / 1000;
+}
+
+struct Instance {
+  std::string class_id, id;
+  double score = 0;
+  double position[3], orientation[4], covariance[36], center[3], center_orientation[4], size[3];
+};
+struct Frame {
+  std::string frame_id;
+  std::vector<Instance> instances;
+};
+struct Diagnostic {
+  int level = -1;
+  std::string name, hardware_id;
+  std::map<std::string, std::string> values;
+};
+
+// A ROS 2 subscriber's reader: reliable, keeping every sample.
+class Reader {
+ public:
+  Reader(dds_entity_t participant, const dds_topic_descriptor_t* type, const std::string& topic,
+         bool transient_local = false) {
+    const dds_entity_t t = dds_create_topic(participant, type, topic.c_str(), nullptr, nullptr);
+    dds_qos_t* qos = dds_create_qos();
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+    dds_qset_durability(qos, transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL
+                                             : DDS_DURABILITY_VOLATILE);
+    reader_ = dds_create_reader(participant, t, qos, nullptr);
+    dds_delete_qos(qos);
+    EXPECT_GT(reader_, 0) << dds_strretcode(reader_);
+  }
+  // Calls `on` with every sample taken now; how many.
+  template <typename T, typename F>
+  int Take(F on) {
+    void* samples[64] = {nullptr};
+    dds_sample_info_t infos[64];
+    const dds_return_t n = dds_take(reader_, samples, infos, 64, 64);
+    for (int i = 0; i < n; ++i)
+      if (infos[i].valid_data) on(*static_cast<const T*>(samples[i]));
+    if (n > 0) dds_return_loan(reader_, samples, n);
+    return n > 0 ? n : 0;
+  }
+
+ private:
+  dds_entity_t reader_ = -1;
+};
+
+struct Heard {
+  std::map<std::int64_t, Frame> detections;  // by header stamp, microseconds
+  std::map<std::int64_t, std::vector<double>> fixations;
+  std::map<std::int64_t, std::string> fixation_frames;
+  std::vector<Diagnostic> diagnostics;
+};
+
+struct Ros2Listener {
+  explicit Ros2Listener(int domain)
+      : participant(dds_create_participant(static_cast<dds_domainid_t>(domain), nullptr, nullptr)),
+        detections(participant, &vision_msgs_msg_dds__Detection3DArray__desc,
+                   "rt/saccade/detections"),
+        fixation(participant, &geometry_msgs_msg_dds__PointStamped__desc, "rt/saccade/fixation"),
+        diagnostics(participant, &diagnostic_msgs_msg_dds__DiagnosticArray__desc,
+                    "rt/diagnostics") {}
+  ~Ros2Listener() { dds_delete(participant); }
+
+  int Take(Heard* h) {
+    int n = detections.Take<vision_msgs_msg_dds__Detection3DArray_>([&](const auto& m) {
+      Frame& f = h->detections[Utime(m.header.stamp)];
+      f.frame_id = m.header.frame_id;
+      for (std::uint32_t k = 0; k < m.detections._length; ++k) {
+        const vision_msgs_msg_dds__Detection3D_& d = m.detections._buffer[k];
+        EXPECT_EQ(Utime(d.header.stamp), Utime(m.header.stamp));
+        EXPECT_EQ(d.results._length, 1u);
+        if (d.results._length != 1) continue;
+        const auto& r = d.results._buffer[0];
+        Instance i;
+        i.class_id = r.hypothesis.class_id;
+        i.score = r.hypothesis.score;
+        i.id = d.id;
+        const auto& p = r.pose.pose;
+        double pos[3] = {p.position.x, p.position.y, p.position.z};
+        double q[4] = {p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w};
+        std::copy(pos, pos + 3, i.position);
+        std::copy(q, q + 4, i.orientation);
+        std::copy(r.pose.covariance, r.pose.covariance + 36, i.covariance);
+        const auto& c = d.bbox.center;
+        double center[3] = {c.position.x, c.position.y, c.position.z};
+        double cq[4] = {c.orientation.x, c.orientation.y, c.orientation.z, c.orientation.w};
+        double size[3] = {d.bbox.size.x, d.bbox.size.y, d.bbox.size.z};
+        std::copy(center, center + 3, i.center);
+        std::copy(cq, cq + 4, i.center_orientation);
+        std::copy(size, size + 3, i.size);
+        f.instances.push_back(i);
+      }
+    });
+    n += fixation.Take<geometry_msgs_msg_dds__PointStamped_>([&](const auto& m) {
+      h->fixations[Utime(m.header.stamp)] = {m.point.x, m.point.y, m.point.z};
+      h->fixation_frames[Utime(m.header.stamp)] = m.header.frame_id;
+    });
+    n += diagnostics.Take<diagnostic_msgs_msg_dds__DiagnosticArray_>([&](const auto& m) {
+      for (std::uint32_t k = 0; k < m.status._length; ++k) {
+        const auto& s = m.status._buffer[k];
+        Diagnostic d;
+        d.level = s.level;
+        d.name = s.name;
+        d.hardware_id = s.hardware_id;
+        for (std::uint32_t v = 0; v < s.values._length; ++v)
+          d.values[s.values._buffer[v].key] = s.values._buffer[v].value;
+        h->diagnostics.push_back(d);
+      }
+    });
+    return n;
+  }
+
+  dds_entity_t participant;
+  Reader detections, fixation, diagnostics;
+};
+
+// What saccaded sent over LCM.
+struct LcmHeard {
+  std::map<std::int64_t, saccade::detections_t> detections;
+  std::map<std::int64_t, saccade::fixation_t> fixations;
+  void OnDetections(const lcm::ReceiveBuffer*, const std::string&,
+                    const saccade::detections_t* m) {
+    detections[m->utime] = *m;
+  }
+  void OnFixation(const lcm::ReceiveBuffer*, const std::string&, const saccade::fixation_t* m) {
+    fixations[m->utime] = *m;
+  }
+};
+
+bool Exited(pid_t pid) {
+  siginfo_t info{};
+  return waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+         info.si_pid == pid;
+}
+
+// A DDS domain of this test's own, so that tests run side by side do not hear each other.
+int Domain() { return 100 + getpid() % 100; }
+
+// saccaded on the synthetic demo (120 frames at 30 Hz, then it exits) with --ros2: every frame
+// after discovery arrives on ROS 2 as on LCM, field for field.
+TEST(Ros2, EveryFrameOnRos2MatchesItsLcmMessageFieldForField) {
+  Sandbox box;
+  const int domain = Domain();
+  Ros2Listener ros2(domain);
+  lcm::LCM lcm(box.url);
+  ASSERT_TRUE(lcm.good());
+  LcmHeard sent;
+  lcm.subscribe("SACCADE_DETECTIONS", &LcmHeard::OnDetections, &sent);
+  lcm.subscribe("SACCADE_FIXATION", &LcmHeard::OnFixation, &sent);
+  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+                        "synthetic:" + kSourceDir + "/configs/demo-scenario.yaml", "--lcm-url",
+                        box.url, "--ros2"},
+                       box.Path("out"), box.Path("err"),
+                       {"ROS_DOMAIN_ID=" + std::to_string(domain)});
+  Heard heard;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (!Exited(daemon.Pid()) && std::chrono::steady_clock::now() < deadline) {
+    lcm.handleTimeout(20);
+    ros2.Take(&heard);
+  }
+  ASSERT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
+  while (lcm.handleTimeout(50) > 0) {
+  }
+  // What was written before the exit and is still on its way (a writer lingers until acked).
+  for (int quiet = 0; quiet < 25; quiet = ros2.Take(&heard) > 0 ? 0 : quiet + 1)
+    lcm.handleTimeout(20);
+
+  ASSERT_FALSE(heard.detections.empty()) << ReadFile(box.Path("err"));
+  const std::int64_t discovered = heard.detections.begin()->first;
+  int after = 0, matched = 0, instances = 0;
+  for (const auto& [utime, d] : sent.detections) {
+    if (utime < discovered) continue;
+    ++after;
+    const auto it = heard.detections.find(utime);
+    if (it == heard.detections.end()) continue;
+    ++matched;
+    const Frame& f = it->second;
+    EXPECT_EQ(f.frame_id, d.frame);
+    std::vector<const saccade::instance_t*> seen;
+    for (const saccade::instance_t& i : d.instances)
+      if (i.track_state != saccade::instance_t::LOST &&
+          i.track_state != saccade::instance_t::SEARCHING)
+        seen.push_back(&i);
+    ASSERT_EQ(f.instances.size(), seen.size()) << "frame " << d.seq;
+    for (std::size_t k = 0; k < seen.size(); ++k) {
+      const saccade::instance_t& l = *seen[k];
+      const Instance& r = f.instances[k];
+      ++instances;
+      EXPECT_EQ(r.class_id, "target");  // synthetic:target
+      EXPECT_EQ(r.id, l.track_id >= 0 ? std::to_string(l.track_id) : "");
+      EXPECT_EQ(r.score, static_cast<double>(l.confidence));
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_EQ(r.position[a], l.trans[a]);
+        EXPECT_EQ(r.center[a], l.centroid[a]);
+        EXPECT_GT(r.size[a], 0.02);  // the target is a box of several centimetres
+        EXPECT_LT(r.size[a], 0.5);
+      }
+      for (int a = 0; a < 3; ++a) EXPECT_EQ(r.orientation[a], l.quat[a + 1]);  // x y z
+      EXPECT_EQ(r.orientation[3], l.quat[0]);                                    // w
+      for (int a = 0; a < 4; ++a) EXPECT_EQ(r.center_orientation[a], r.orientation[a]);
+      for (int a = 0; a < 6; ++a) EXPECT_GT(r.covariance[a * 7], 0.0);
+      EXPECT_EQ(r.covariance[1], 0.0);
+    }
+  }
+  std::printf("ROS 2: %d of %d frames after discovery, %d instances, %zu diagnostics\n", matched,
+              after, instances, heard.diagnostics.size());
+  EXPECT_GE(after, 100);
+  EXPECT_GE(matched * 100, after * 99) << matched << " of " << after << " frames on ROS 2";
+  EXPECT_GE(instances, 50);  // the demo's target is seen in most frames
+
+  int fixations = 0;
+  for (const auto& [utime, f] : sent.fixations) {
+    const auto it = heard.fixations.find(utime);
+    if (utime < discovered || it == heard.fixations.end()) continue;
+    ++fixations;
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(it->second[static_cast<std::size_t>(a)], f.fovea[a]);
+    EXPECT_EQ(heard.fixation_frames[utime], f.frame);
+  }
+  EXPECT_GE(fixations * 100, after * 99);
+
+  ASSERT_GE(heard.diagnostics.size(), 2u);  // once a second over a four-second run
+  const Diagnostic& last = heard.diagnostics.back();
+  EXPECT_EQ(last.name, "saccaded");
+  EXPECT_EQ(last.hardware_id, "synthetic:" + kSourceDir + "/configs/demo-scenario.yaml");
+  EXPECT_LE(last.level, 1);
+  EXPECT_EQ(last.values.count("frames_processed"), 1u);
+  EXPECT_EQ(last.values.count("recognize_p50_ms"), 1u);
+}
+
+// A ROS_DOMAIN_ID a ROS 2 node would refuse stops saccaded with one line and exit code 1.
+TEST(Ros2, ABadDomainIdIsOneLineAndExitOne) {
+  Sandbox box;
+  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--lcm-url",
+                        box.url, "--ros2"},
+                       box.Path("out"), box.Path("err"), {"ROS_DOMAIN_ID=300"});
+  EXPECT_EQ(daemon.Wait().code, 1);
+  const std::string err = ReadFile(box.Path("err"));
+  EXPECT_NE(err.find("ROS_DOMAIN_ID must be a whole number from 0 to 232 (it is '300')"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(saccade::testing::Count(err, "\n"), 1) << err;
+}
+
+}  // namespace
