@@ -98,10 +98,11 @@ std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
     const ModelSignature signature = SignModel(d->cloud(), d->scale().spacing_m);
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
     for (const PointT& p : d->cloud())
-      if (FinitePoint(p)) lo = lo.cwiseMin(p.getVector3fMap()), hi = hi.cwiseMax(p.getVector3fMap());
+      if (FinitePoint(p))
+        lo = lo.cwiseMin(p.getVector3fMap()), hi = hi.cwiseMax(p.getVector3fMap());
     const Eigen::Vector3f extent = (hi - lo).cwiseMax(0.0f);
-    models.push_back(std::make_shared<const NamedModel>(
-        NamedModel{spec, std::move(*d), signature, extent}));
+    models.push_back(
+        std::make_shared<const NamedModel>(NamedModel{spec, std::move(*d), signature, extent}));
   }
   return models;
 }

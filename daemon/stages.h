@@ -29,7 +29,7 @@ namespace saccade {
 struct NamedModel {
   std::string name;
   ModelDescription description;
-  ModelSignature signature;  // what whole-frame candidates look for
+  ModelSignature signature;                            // what whole-frame candidates look for
   Eigen::Vector3f extent_m = Eigen::Vector3f::Zero();  // its size along its own axes
 };
 using Models = std::vector<std::shared_ptr<const NamedModel>>;

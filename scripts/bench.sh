@@ -13,3 +13,9 @@ export OMP_WAIT_POLICY=passive
   --scene "$data/pcl_test/milk_cartoon_all_small_clorox.pcd" \
   --truth "$data/pcl_data/correspondence_grouping/milk_pose_in_scene.txt" \
   --fovea -0.056,-0.127,0.776 --frames "${FRAMES:-10}"
+# Publishing a frame of three objects: LCM alone, and LCM with the ROS 2 mirror (saccaded --ros2).
+if [ -x "$build/tests/bench/saccade_publish_bench" ]; then
+  echo "publishing a frame of three objects (LCM; LCM and ROS 2):"
+  "$build/tests/bench/saccade_publish_bench" --benchmark_repetitions=5 \
+    --benchmark_report_aggregates_only=true 2>&1 | grep -E '_(median|mean) '
+fi

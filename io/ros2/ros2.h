@@ -16,7 +16,7 @@ namespace saccade {
 
 /// The `ros2` section of the config.
 struct Ros2Options {
-  bool enabled = false;                 // also `saccaded --ros2`
+  bool enabled = false;                   // also `saccaded --ros2`
   std::string topic_prefix = "/saccade";  // PREFIX/detections, PREFIX/fixation
   /// header.frame_id of what is published in the camera frame (LCM names it "camera"); with a
   /// robot frame configured, the robot frame's name, and /tf_static links the two.

@@ -41,23 +41,23 @@ builtin_interfaces_msg_dds__Time_ Stamp(std::int64_t utime) {
 // A model's name as ROS 2 users label it: its file name without folder or extension
 // ("/var/lib/saccade/models/mug.pcd" -> "mug", "synthetic:target" -> "target").
 std::string ClassId(const std::string& spec) {
-  std::string name = spec.substr(spec.find_last_of("/:") == std::string::npos
-                                     ? 0
-                                     : spec.find_last_of("/:") + 1);
+  std::string name =
+      spec.substr(spec.find_last_of("/:") == std::string::npos ? 0 : spec.find_last_of("/:") + 1);
   const std::size_t dot = name.rfind('.');
   if (dot != std::string::npos && dot > 0) name.erase(dot);
   return name;
 }
 
-// A detection's pose covariance (row-major, x y z then rotations about x y z): diagonal,
-// 1 cm and 3 degrees standard deviation at confidence 1 (what the benchmarks measure a
-// verified instance to be within at p90), growing as 1/confidence down to 0.05; all zeros
+// A detection's pose covariance (row-major, x y z then rotations about x y z): diagonal, a
+// standard deviation of 1 cm and 1.5 degrees on each axis at confidence 1 (their 3D p90, 2.5 cm
+// and 3.8 degrees, is about the 2.7 cm and 2.8 degrees a held track measures at p90 on the ViSP
+// cube's real frames, docs/BENCHMARKS.md), growing as 1/confidence down to 0.05; all zeros
 // (ROS's "unknown") when the instance was not verified.
 void Covariance(float confidence, double out[36]) {
   std::fill(out, out + 36, 0.0);
   if (!(confidence >= 0)) return;
   const double c = std::clamp(static_cast<double>(confidence), 0.05, 1.0);
-  const double sp = 0.01 / c, sr = 3.0 * M_PI / 180.0 / c;
+  const double sp = 0.01 / c, sr = 1.5 * M_PI / 180.0 / c;
   for (int i = 0; i < 3; ++i) out[i * 7] = sp * sp;
   for (int i = 3; i < 6; ++i) out[i * 7] = sr * sr;
 }
@@ -152,8 +152,8 @@ class Ros2Mirror : public MessageMirror {
 
   void PublishStatus(const status_t& s) override {
     // Once a second, however often the status comes (service.status_period_s).
-    if (diagnostics_ == 0 || (last_diagnostics_utime_ != 0 &&
-                              s.utime - last_diagnostics_utime_ < 1000000 - 50000))
+    if (diagnostics_ == 0 ||
+        (last_diagnostics_utime_ != 0 && s.utime - last_diagnostics_utime_ < 1000000 - 50000))
       return;
     last_diagnostics_utime_ = s.utime;
     std::vector<std::pair<std::string, std::string>> figures = {
@@ -221,7 +221,8 @@ class Ros2Mirror : public MessageMirror {
     // A ROS 2 topic /a/b is the DDS topic rt/a/b.
     const std::string name = "rt" + ros_topic;
     const dds_entity_t topic = dds_create_topic(participant_, type, name.c_str(), nullptr, nullptr);
-    const dds_entity_t writer = topic < 0 ? topic : dds_create_writer(participant_, topic, qos, nullptr);
+    const dds_entity_t writer =
+        topic < 0 ? topic : dds_create_writer(participant_, topic, qos, nullptr);
     if (writer < 0)
       Fail(error, "ros2: cannot create the writer of " + ros_topic + ": " + dds_strretcode(writer));
     return writer;
@@ -231,10 +232,9 @@ class Ros2Mirror : public MessageMirror {
     const dds_return_t rc = dds_write(writer, sample);
     std::int64_t held_back = 0;
     if (rc < 0 && write_log_.Allow(&held_back))
-      Log(LogLevel::kWarning, std::string("ros2: ") + what + " not sent: " + dds_strretcode(rc) +
-                                  (held_back > 0 ? " (and " + std::to_string(held_back) +
-                                                       " more not logged)"
-                                                 : ""));
+      Log(LogLevel::kWarning,
+          std::string("ros2: ") + what + " not sent: " + dds_strretcode(rc) +
+              (held_back > 0 ? " (and " + std::to_string(held_back) + " more not logged)" : ""));
   }
 
   // /tf_static: the camera in the robot frame, once, kept for late joiners (transient local).
@@ -260,8 +260,7 @@ class Ros2Mirror : public MessageMirror {
     tf2_msgs_msg_dds__TFMessage_ message{};
     message.transforms = {1, 1, &t, false};
     const dds_return_t rc = dds_write(tf_static_, &message);
-    if (rc < 0)
-      return Fail(error, std::string("ros2: /tf_static not sent: ") + dds_strretcode(rc));
+    if (rc < 0) return Fail(error, std::string("ros2: /tf_static not sent: ") + dds_strretcode(rc));
     return true;
   }
 
@@ -279,8 +278,7 @@ class Ros2Mirror : public MessageMirror {
   const Ros2Options options_;
   const RobotFrameOptions robot_;
   const int domain_;
-  dds_entity_t participant_ = 0, detections_ = 0, fixation_ = 0, diagnostics_ = 0,
-               tf_static_ = 0;
+  dds_entity_t participant_ = 0, detections_ = 0, fixation_ = 0, diagnostics_ = 0, tf_static_ = 0;
   std::int64_t last_diagnostics_utime_ = 0, last_dropped_ = 0, last_unsent_ = 0;
   LogLimiter write_log_{1};
 };

@@ -6,10 +6,10 @@
 
 #include <dds/dds.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <lcm/lcm-cpp.hpp>
 #include <saccade/detections_t.hpp>
 #include <saccade/fixation_t.hpp>
-#include <sys/wait.h>
 
 #include "diagnostic_msgs.h"
 #include "geometry_msgs.h"
@@ -61,8 +61,8 @@ class Reader {
     dds_qos_t* qos = dds_create_qos();
     dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
     dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
-    dds_qset_durability(qos, transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL
-                                             : DDS_DURABILITY_VOLATILE);
+    dds_qset_durability(qos,
+                        transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
     reader_ = dds_create_reader(participant, t, qos, nullptr);
     dds_delete_qos(qos);
     EXPECT_GT(reader_, 0) << dds_strretcode(reader_);
@@ -157,8 +157,7 @@ struct Ros2Listener {
 struct LcmHeard {
   std::map<std::int64_t, saccade::detections_t> detections;
   std::map<std::int64_t, saccade::fixation_t> fixations;
-  void OnDetections(const lcm::ReceiveBuffer*, const std::string&,
-                    const saccade::detections_t* m) {
+  void OnDetections(const lcm::ReceiveBuffer*, const std::string&, const saccade::detections_t* m) {
     detections[m->utime] = *m;
   }
   void OnFixation(const lcm::ReceiveBuffer*, const std::string&, const saccade::fixation_t* m) {
@@ -186,11 +185,10 @@ TEST(Ros2, EveryFrameOnRos2MatchesItsLcmMessageFieldForField) {
   LcmHeard sent;
   lcm.subscribe("SACCADE_DETECTIONS", &LcmHeard::OnDetections, &sent);
   lcm.subscribe("SACCADE_FIXATION", &LcmHeard::OnFixation, &sent);
-  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
-                        "synthetic:" + kSourceDir + "/configs/demo-scenario.yaml", "--lcm-url",
-                        box.url, "--ros2"},
-                       box.Path("out"), box.Path("err"),
-                       {"ROS_DOMAIN_ID=" + std::to_string(domain)});
+  Child daemon = Spawn(
+      {kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--source",
+       "synthetic:" + kSourceDir + "/configs/demo-scenario.yaml", "--lcm-url", box.url, "--ros2"},
+      box.Path("out"), box.Path("err"), {"ROS_DOMAIN_ID=" + std::to_string(domain)});
   Heard heard;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
   while (!Exited(daemon.Pid()) && std::chrono::steady_clock::now() < deadline) {
@@ -201,8 +199,7 @@ TEST(Ros2, EveryFrameOnRos2MatchesItsLcmMessageFieldForField) {
   while (lcm.handleTimeout(50) > 0) {
   }
   // What was written before the exit and is still on its way (a writer lingers until acked).
-  for (int quiet = 0; quiet < 25; quiet = ros2.Take(&heard) > 0 ? 0 : quiet + 1)
-    lcm.handleTimeout(20);
+  for (int quiet = 0; quiet<25; quiet = ros2.Take(&heard)> 0 ? 0 : quiet + 1) lcm.handleTimeout(20);
 
   ASSERT_FALSE(heard.detections.empty()) << ReadFile(box.Path("err"));
   const std::int64_t discovered = heard.detections.begin()->first;
@@ -235,7 +232,7 @@ TEST(Ros2, EveryFrameOnRos2MatchesItsLcmMessageFieldForField) {
         EXPECT_LT(r.size[a], 0.5);
       }
       for (int a = 0; a < 3; ++a) EXPECT_EQ(r.orientation[a], l.quat[a + 1]);  // x y z
-      EXPECT_EQ(r.orientation[3], l.quat[0]);                                    // w
+      EXPECT_EQ(r.orientation[3], l.quat[0]);                                  // w
       for (int a = 0; a < 4; ++a) EXPECT_EQ(r.center_orientation[a], r.orientation[a]);
       for (int a = 0; a < 6; ++a) EXPECT_GT(r.covariance[a * 7], 0.0);
       EXPECT_EQ(r.covariance[1], 0.0);
@@ -269,9 +266,9 @@ TEST(Ros2, EveryFrameOnRos2MatchesItsLcmMessageFieldForField) {
 // A ROS_DOMAIN_ID a ROS 2 node would refuse stops saccaded with one line and exit code 1.
 TEST(Ros2, ABadDomainIdIsOneLineAndExitOne) {
   Sandbox box;
-  Child daemon = Spawn({kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--lcm-url",
-                        box.url, "--ros2"},
-                       box.Path("out"), box.Path("err"), {"ROS_DOMAIN_ID=300"});
+  Child daemon = Spawn(
+      {kSaccaded, "--config", kSourceDir + "/configs/demo.yaml", "--lcm-url", box.url, "--ros2"},
+      box.Path("out"), box.Path("err"), {"ROS_DOMAIN_ID=300"});
   EXPECT_EQ(daemon.Wait().code, 1);
   const std::string err = ReadFile(box.Path("err"));
   EXPECT_NE(err.find("ROS_DOMAIN_ID must be a whole number from 0 to 232 (it is '300')"),
