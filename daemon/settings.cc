@@ -54,7 +54,8 @@ bool DaemonSettings::IsValid(std::string* error) const {
          check("attention", attention) && check("candidates", candidates) &&
          check("tracking", tracking) && check("saliency", saliency) &&
          check("pipeline", pipeline) && check("lcm", bus) && check("robot_frame", bus.robot) &&
-         check("service", service) && check("preview", preview) && check("ros2", ros2);
+         check("service", service) && check("preview", preview) && check("ros2", ros2) &&
+         check("log", log);
 }
 
 bool LoadDaemonSettings(const std::string& path, DaemonSettings* settings, std::string* error) {

@@ -11,6 +11,7 @@
 #include "core/saliency.h"
 #include "io/bus.h"
 #include "io/log.h"
+#include "io/ros2/mcap_log.h"
 #include "io/ros2/ros2.h"
 
 #include <string>
@@ -101,6 +102,7 @@ struct DaemonSettings {
   ServiceOptions service;
   PreviewOptions preview;  // PREFIX_PREVIEW, for viewers (saccade view)
   Ros2Options ros2;        // the same messages on ROS 2's wire (docs/ROS2.md)
+  McapLogOptions log;      // and in an MCAP file
 
   bool IsValid(std::string* error) const;
   bool operator==(const DaemonSettings& o) const { return SameFields(*this, o); }
@@ -122,6 +124,7 @@ struct DaemonSettings {
     a->Section("service", &service);
     a->Section("preview", &preview);
     a->Section("ros2", &ros2);
+    a->Section("log", &log);
   }
 };
 

@@ -29,6 +29,7 @@ std::vector<std::string> NeedRestart(const DaemonSettings& was, const DaemonSett
   if (next.bus != was.bus) kept.push_back("lcm/robot_frame");
   if (next.pipeline != was.pipeline) kept.push_back("pipeline");
   if (next.ros2 != was.ros2) kept.push_back("ros2");
+  if (next.log != was.log) kept.push_back("log");
   return kept;
 }
 
@@ -304,12 +305,18 @@ std::unique_ptr<Tracker> Tracker::Open(const DaemonSettings& settings, Heartbeat
                                        std::string* error) {
   std::optional<Models> models = DescribeModels(settings.models, settings.recognition, error);
   if (!models) return nullptr;
-  std::unique_ptr<MessageMirror> ros2;
+  std::vector<std::unique_ptr<MessageMirror>> mirrors;
   if (settings.ros2.enabled) {
-    ros2 = OpenRos2Mirror(settings.ros2, settings.bus.robot, error);
-    if (!ros2) return nullptr;
+    mirrors.push_back(OpenRos2Mirror(settings.ros2, settings.bus.robot, error));
+    if (!mirrors.back()) return nullptr;
   }
-  std::unique_ptr<Bus> bus = OpenLcmBus(settings.bus, error, std::move(ros2));
+  if (!settings.log.mcap.empty()) {
+    mirrors.push_back(OpenMcapMirror(
+        settings.log.mcap, static_cast<std::uint64_t>(settings.log.mcap_max_mb * 1e6),
+        settings.ros2, error));
+    if (!mirrors.back()) return nullptr;
+  }
+  std::unique_ptr<Bus> bus = OpenLcmBus(settings.bus, error, std::move(mirrors));
   if (!bus) return nullptr;
   std::unique_ptr<FrameSource> source =
       OpenSource(settings.source.spec, error, settings.source.wait_at_start_s);

@@ -164,8 +164,8 @@ void Copy3(const Vec& v, double out[3]) {
 class LcmBus : public Bus {
  public:
   LcmBus(const BusOptions& options, BusOptions::Commands mode, std::unique_ptr<lcm::LCM> lcm,
-         std::unique_ptr<MessageMirror> mirror)
-      : options_(options), mode_(mode), lcm_(std::move(lcm)), mirror_(std::move(mirror)) {
+         std::vector<std::unique_ptr<MessageMirror>> mirrors)
+      : options_(options), mode_(mode), lcm_(std::move(lcm)), mirrors_(std::move(mirrors)) {
     frame_name_ = options_.robot.enabled ? options_.robot.name : "camera";
     detections_channel_ = DetectionsChannel(options_.channel_prefix);
     fixation_channel_ = FixationChannel(options_.channel_prefix);
@@ -226,6 +226,11 @@ class LcmBus : public Bus {
       const Eigen::Quaternionf q(X_RM.rotation());
       i.quat[0] = q.w(), i.quat[1] = q.x(), i.quat[2] = q.y(), i.quat[3] = q.z();
       Copy3(X_RC_ * r.centroid_m, i.centroid);
+      const bool sized =
+          r.model >= 0 && r.model < static_cast<int>(frame.model_extents_m.size());
+      Copy3(sized ? frame.model_extents_m[static_cast<std::size_t>(r.model)]
+                  : Eigen::Vector3f::Zero().eval(),
+            i.size);
       i.votes = r.votes;
       i.confidence = r.confidence;
       i.fitness = r.fitness;
@@ -255,7 +260,7 @@ class LcmBus : public Bus {
 
     std::lock_guard<std::mutex> lock(publish_mutex_);
     const bool ok = lcm_->publish(detections_channel_, &d) == 0;
-    if (mirror_) mirror_->Publish(d, f, frame.model_extents_m);
+    for (const auto& mirror : mirrors_) mirror->Publish(d, f);
     return lcm_->publish(fixation_channel_, &f) == 0 && ok;
   }
 
@@ -288,7 +293,7 @@ class LcmBus : public Bus {
     }
     m.num_stages = static_cast<std::int32_t>(m.stages.size());
     std::lock_guard<std::mutex> lock(publish_mutex_);
-    if (mirror_) mirror_->PublishStatus(m);
+    for (const auto& mirror : mirrors_) mirror->PublishStatus(m);
     return lcm_->publish(status_channel_, &m) == 0;
   }
 
@@ -313,8 +318,10 @@ class LcmBus : public Bus {
       commands = "signed with " + options_.command_key;
     else if (mode_ == BusOptions::Commands::kOpen)
       commands = "open to this host";
-    return options_.url + " (channels " + options_.channel_prefix + "_*, commands " + commands +
-           ")" + (mirror_ ? "; " + mirror_->Describe() : "");
+    std::string text =
+        options_.url + " (channels " + options_.channel_prefix + "_*, commands " + commands + ")";
+    for (const auto& mirror : mirrors_) text += "; " + mirror->Describe();
+    return text;
   }
 
  private:
@@ -363,7 +370,7 @@ class LcmBus : public Bus {
   const BusOptions::Commands mode_;
   std::unique_ptr<CommandGate> gate_;
   std::unique_ptr<lcm::LCM> lcm_;
-  std::unique_ptr<MessageMirror> mirror_;  // guarded by publish_mutex_ once running
+  std::vector<std::unique_ptr<MessageMirror>> mirrors_;  // called under publish_mutex_
   std::string frame_name_;
   std::string detections_channel_, fixation_channel_, status_channel_, preview_channel_;
   Eigen::Isometry3f X_RC_;
@@ -431,11 +438,11 @@ bool BusOptions::IsValid(std::string* error) const {
 }
 
 std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error,
-                                std::unique_ptr<MessageMirror> mirror) {
+                                std::vector<std::unique_ptr<MessageMirror>> mirrors) {
   std::unique_ptr<lcm::LCM> lcm = OpenLcm(options.url, error);
   if (!lcm) return nullptr;
   const BusOptions::Commands mode = options.Resolved();
-  auto bus = std::make_unique<LcmBus>(options, mode, std::move(lcm), std::move(mirror));
+  auto bus = std::make_unique<LcmBus>(options, mode, std::move(lcm), std::move(mirrors));
   if (mode == BusOptions::Commands::kOff) {
     if (options.commands == BusOptions::Commands::kAuto)
       Log(LogLevel::kWarning, "commands are off: no key at " + options.command_key +

@@ -180,19 +180,17 @@ class Bus {
 class MessageMirror {
  public:
   virtual ~MessageMirror() = default;
-  /// A frame's messages; `model_extents_m` is each model's size along its own axes, indexed
-  /// as instance_t.model.
-  virtual void Publish(const detections_t& detections, const fixation_t& fixation,
-                       const std::vector<Eigen::Vector3f>& model_extents_m) = 0;
+  /// A frame's messages.
+  virtual void Publish(const detections_t& detections, const fixation_t& fixation) = 0;
   virtual void PublishStatus(const status_t& status) = 0;
   virtual std::string Describe() const = 0;
 };
 
 /// Opens LCM at options.url; with commands on, Subscribe starts a thread that receives them.
-/// Every message sent is also handed to `mirror` when given. nullptr with one line in `error`
+/// Every message sent is also handed to each of `mirrors`. nullptr with one line in `error`
 /// when LCM cannot be opened.
 std::unique_ptr<Bus> OpenLcmBus(const BusOptions& options, std::string* error,
-                                std::unique_ptr<MessageMirror> mirror = nullptr);
+                                std::vector<std::unique_ptr<MessageMirror>> mirrors = {});
 
 /// The channel names for a prefix.
 std::string DetectionsChannel(const std::string& prefix);

@@ -1,32 +1,15 @@
 #include "io/detections_log.h"
 
 #include "io/json.h"
+#include "io/lcm_decode.h"
 
 #include <saccade/detections_t.hpp>
 
+#include <optional>
 #include <ostream>
 
 namespace saccade {
 namespace {
-
-// detections_t's fields after its 8-byte type hash, up to num_instances; then instance_t's
-// (nested structs carry no hash).
-constexpr std::initializer_list<int> kDetectionsLayout = {8,  8, 8, 8, kLcmString, 1,
-                                                          24, 8, 8, 4, 4,          4};
-constexpr std::initializer_list<int> kInstanceLayout = {8, 4, kLcmString, 24, 32, 24, 4,
-                                                        4, 4, 4,          4,  4,  1,  kLcmString};
-constexpr std::size_t kSmallestInstance = 8 + 4 + 5 + 24 + 32 + 24 + 4 + 16 + 4 + 1 + 5;
-
-bool DetectionsFit(const unsigned char* data, std::size_t size) {
-  std::size_t at = 8;
-  if (!LcmFieldsFit(data, size, &at, kDetectionsLayout)) return false;
-  const std::int32_t count = LcmInt32(data + at - 4);
-  if (count < 0 || static_cast<std::size_t>(count) > (size - at) / kSmallestInstance)
-    return false;  // checked before lcm-gen's decoder sizes a vector by it
-  for (std::int32_t i = 0; i < count; ++i)
-    if (!LcmFieldsFit(data, size, &at, kInstanceLayout)) return false;
-  return true;
-}
 
 template <std::size_t N>
 std::array<float, N> Floats(const double (&v)[N]) {
@@ -50,9 +33,9 @@ void JsonFloats(JsonWriter& j, const std::array<float, N>& v) {
 }  // namespace
 
 bool DecodeDetections(const void* data, std::size_t size, LoggedDetections* logged) {
-  if (!DetectionsFit(static_cast<const unsigned char*>(data), size)) return false;
-  saccade::detections_t m;
-  if (m.decode(data, 0, static_cast<int>(size)) < 0) return false;
+  const std::optional<saccade::detections_t> decoded = DecodeDetectionsMessage(data, size);
+  if (!decoded) return false;
+  const saccade::detections_t& m = *decoded;
   LoggedDetections d;
   d.utime = m.utime;
   d.sensor_utime = m.sensor_utime;

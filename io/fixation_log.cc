@@ -2,6 +2,7 @@
 
 #include "core/fail.h"
 #include "io/json.h"
+#include "io/lcm_decode.h"
 #include "io/lcm_log.h"
 #include "io/text.h"
 
@@ -20,20 +21,10 @@
 
 namespace saccade {
 
-namespace {
-
-// fixation_t's fields after its 8-byte type hash (lcm_log.h).
-constexpr std::initializer_list<int> kFixationLayout = {
-    8, 8, 8, kLcmString, 24, 24, 8, 1, kLcmString, 4, 4, 4, kLcmString};
-
-}  // namespace
-
 bool DecodeFixation(const void* data, std::size_t size, LoggedFixation* logged) {
-  std::size_t at = 8;
-  if (!LcmFieldsFit(static_cast<const unsigned char*>(data), size, &at, kFixationLayout))
-    return false;
-  saccade::fixation_t m;
-  if (m.decode(data, 0, static_cast<int>(size)) < 0) return false;
+  const std::optional<saccade::fixation_t> decoded = DecodeFixationMessage(data, size);
+  if (!decoded) return false;
+  const saccade::fixation_t& m = *decoded;
   if (m.mode < 0 || m.mode > static_cast<int>(AttentionMode::kFullScan)) return false;
   logged->utime = m.utime;
   logged->sensor_utime = m.sensor_utime;

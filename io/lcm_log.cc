@@ -98,6 +98,15 @@ std::uint64_t NextSync(std::ifstream& in, std::uint64_t from, std::uint64_t size
 bool ReadLcmLog(const std::string& log_path, const std::string& channel,
                 const std::function<bool(const unsigned char* data, std::size_t size)>& message,
                 LcmLogStats* stats, std::string* error) {
+  return ReadLcmLogEvents(
+      log_path, [&](const std::string& name) { return name == channel; },
+      [&](const LcmLogEvent& e) { return message(e.data, e.size); }, stats, error);
+}
+
+bool ReadLcmLogEvents(const std::string& log_path,
+                      const std::function<bool(const std::string& channel)>& wanted,
+                      const std::function<bool(const LcmLogEvent& event)>& message,
+                      LcmLogStats* stats, std::string* error) {
   if (!CheckLcmLog(log_path, error)) return false;
   std::ifstream in(log_path, std::ios::binary);
   in.seekg(0, std::ios::end);
@@ -129,11 +138,14 @@ bool ReadLcmLog(const std::string& log_path, const std::string& channel,
     std::string name(channel_len, '\0');
     in.read(name.data(), static_cast<std::streamsize>(channel_len));
     at += kEventHeader + channel_len + data_len;
-    if (name != channel) continue;  // other channels' data is not read
+    if (!wanted(name)) continue;  // other channels' data is not read
     body.resize(static_cast<std::size_t>(data_len));
     if (!in.read(reinterpret_cast<char*>(body.data()), static_cast<std::streamsize>(data_len)))
       break;
-    if (message(body.data(), body.size()))
+    std::int64_t utime = 0;
+    for (int i = 0; i < 8; ++i) utime = static_cast<std::int64_t>(
+                                    (static_cast<std::uint64_t>(utime) << 8) | header[12 + i]);
+    if (message({name, utime, body.data(), body.size()}))
       ++stats->written;
     else
       ++stats->skipped;

@@ -37,6 +37,21 @@ bool ReadLcmLog(const std::string& path, const std::string& channel,
                 const std::function<bool(const unsigned char* data, std::size_t size)>& message,
                 LcmLogStats* stats, std::string* error);
 
+/// One event of an lcm-logger log: its channel, when the logger received it (microseconds since
+/// the epoch) and its data.
+struct LcmLogEvent {
+  const std::string& channel;
+  std::int64_t utime;
+  const unsigned char* data;
+  std::size_t size;
+};
+
+/// As ReadLcmLog, for every event whose channel is `wanted`, in the log's order.
+bool ReadLcmLogEvents(const std::string& path,
+                      const std::function<bool(const std::string& channel)>& wanted,
+                      const std::function<bool(const LcmLogEvent& event)>& message,
+                      LcmLogStats* stats, std::string* error);
+
 /// A message's fields as lcm-gen encodes them: each one's size in bytes, or kLcmString for a
 /// string (a big-endian int32 length counting its final NUL, then the bytes).
 constexpr int kLcmString = -1;

@@ -5,6 +5,7 @@
 #include "io/detections_log.h"
 #include "io/fixation_log.h"
 #include "io/json.h"
+#include "io/lcm_decode.h"
 #include "io/lcm_log.h"
 #include "io/preview.h"
 
@@ -18,26 +19,6 @@
 
 namespace saccade {
 namespace {
-
-// status_t's fields after its type hash, up to num_stages; then stage_latency_t's.
-constexpr std::initializer_list<int> kStatusLayout = {8, 8, kLcmString, kLcmString, 1, 8, 8, 8, 8,
-                                                      8, 8, 4,          8,          8, 4, 1, 4};
-constexpr std::initializer_list<int> kStageLayout = {8, kLcmString, 4, 4, 4, 4, 4};
-constexpr std::size_t kSmallestStage = 8 + 5 + 4 + 16;
-
-std::optional<saccade::status_t> DecodeStatus(const void* data, std::size_t size) {
-  const auto* d = static_cast<const unsigned char*>(data);
-  std::size_t at = 8;
-  if (!LcmFieldsFit(d, size, &at, kStatusLayout)) return std::nullopt;
-  const std::int32_t count = LcmInt32(d + at - 4);
-  if (count < 0 || static_cast<std::size_t>(count) > (size - at) / kSmallestStage)
-    return std::nullopt;
-  for (std::int32_t i = 0; i < count; ++i)
-    if (!LcmFieldsFit(d, size, &at, kStageLayout)) return std::nullopt;
-  saccade::status_t m;
-  if (m.decode(data, 0, static_cast<int>(size)) < 0) return std::nullopt;
-  return m;
-}
 
 /// One point of the strips: the viewer's clock and a value.
 struct Sample {
@@ -132,7 +113,7 @@ bool ViewerState::OnMessage(const std::string& channel, const void* data, std::s
     return true;
   }
   if (channel == StatusChannel(prefix)) {
-    std::optional<saccade::status_t> m = DecodeStatus(data, size);
+    std::optional<saccade::status_t> m = DecodeStatusMessage(data, size);
     std::lock_guard<std::mutex> lock(s.mutex);
     if (!m) return ++s.rejected, false;
     s.heard_s = now_s;

@@ -24,6 +24,8 @@ int RunRecord(const std::vector<std::string>& args, std::ostream& out, std::ostr
 int RunLogFixations(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunDetections(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunFixations(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+/// saccade mcap: an lcm-logger log of saccaded as an MCAP file of ROS 2 messages.
+int RunMcap(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 /// saccade view: the live web viewer.
 int RunView(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 int RunModel(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);

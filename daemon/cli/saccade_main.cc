@@ -32,6 +32,8 @@ constexpr Command kCommands[] = {
      saccade::RunFixations},
     {"detections", "convert the detections in an lcm-logger log (CSV, JSON lines)",
      saccade::RunDetections},
+    {"mcap", "turn an lcm-logger log into an MCAP file of ROS 2 messages (Foxglove, rosbag2)",
+     saccade::RunMcap},
     {"command", "send saccaded a command (signed when a key is at hand)", saccade::RunSendCommand},
     {"keygen", "make the key that signs saccaded's commands", saccade::RunKeygen},
     {"view", "serve a live web page of what saccaded sees (camera, 3D, strips)", saccade::RunView},

@@ -41,6 +41,21 @@ struct Ros2Options {
   }
 };
 
+/// The `log` section: saccaded's own MCAP log of what it publishes (docs/ROS2.md).
+struct McapLogOptions {
+  std::string mcap;           // the file; empty: none
+  double mcap_max_mb = 1024;  // a file is closed past this and the next one begun, MB
+
+  bool IsValid(std::string* error) const;
+  bool operator==(const McapLogOptions& o) const { return SameFields(*this, o); }
+  bool operator!=(const McapLogOptions& o) const { return !(*this == o); }
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit("mcap", &mcap);
+    a->Visit("mcap_max_mb", &mcap_max_mb);
+  }
+};
+
 /// Whether this build speaks ROS 2 (Cyclone DDS was found at configure time).
 bool Ros2Built();
 

@@ -24,4 +24,12 @@ bool Ros2Options::IsValid(std::string* error) const {
   return true;
 }
 
+bool McapLogOptions::IsValid(std::string* error) const {
+  if (!(mcap_max_mb >= 0.01 && mcap_max_mb <= 1e6))
+    return Fail(error, "mcap_max_mb must be 0.01 to 1000000");
+  if (!mcap.empty() && mcap.back() == '/')
+    return Fail(error, "mcap must name a file, not a folder");
+  return true;
+}
+
 }  // namespace saccade

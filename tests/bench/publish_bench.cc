@@ -43,7 +43,9 @@ void Publish(benchmark::State& state, std::unique_ptr<MessageMirror> mirror) {
   options.url = "udpm://239.255.76.67:7669?ttl=0";
   options.commands = BusOptions::Commands::kOff;
   std::string error;
-  std::unique_ptr<Bus> bus = OpenLcmBus(options, &error, std::move(mirror));
+  std::vector<std::unique_ptr<MessageMirror>> mirrors;
+  if (mirror) mirrors.push_back(std::move(mirror));
+  std::unique_ptr<Bus> bus = OpenLcmBus(options, &error, std::move(mirrors));
   if (!bus) {
     state.SkipWithError(error.c_str());
     return;

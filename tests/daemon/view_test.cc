@@ -163,7 +163,9 @@ TEST(View, ShowsTheLiveDemoInARealBrowserWithTheDetectionWhereTheTruthProjects) 
   ASSERT_TRUE(WaitFor([&] {
     state = view.Get("/api/state");
     const std::size_t d = state.find("\"detections\":{");
-    return d != std::string::npos && state.find(seq, d) < state.find("\"instances\"", d);
+    // and a status decoded whole (its layout checked field by field, status_t as it is now)
+    return d != std::string::npos && state.find(seq, d) < state.find("\"instances\"", d) &&
+           state.find("\"lcm_datagrams_dropped\":") != std::string::npos;
   })) << state;
   JsonWriter instances;
   WriteInstancesJson(last.instances, &instances);
