@@ -3,6 +3,7 @@
 // alone (io/ros2/idl compiled by idlc; none of Saccade's code), each message checked against
 // the LCM message saccaded sent for the same frame.
 #include "support/processes.h"
+#include "support/small_disk.h"
 
 #include <dds/dds.h>
 #include <gtest/gtest.h>
@@ -17,6 +18,9 @@
 #include "vision_msgs.h"
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -31,6 +35,7 @@ using saccade::testing::Sandbox;
 using saccade::testing::Spawn;
 
 const std::string kSaccaded = SACCADED_BINARY;
+const std::string kSaccade = SACCADE_BINARY;
 const std::string kSourceDir = SACCADE_SOURCE_DIR;
 
 std::int64_t Utime(const builtin_interfaces_msg_dds__Time_& t) {
@@ -275,6 +280,91 @@ TEST(Ros2, ABadDomainIdIsOneLineAndExitOne) {
             std::string::npos)
       << err;
   EXPECT_EQ(saccade::testing::Count(err, "\n"), 1) << err;
+}
+
+// An lcm-logger log of `frames` frames of saccaded's detections (an instance each, as large
+// as a real one) and fixations, written with liblcm's own log writer.
+void WriteLog(const std::string& path, int frames) {
+  lcm::LogFile log(path, "w");
+  ASSERT_TRUE(log.good());
+  for (int k = 0; k < frames; ++k) {
+    saccade::detections_t d{};
+    d.utime = 1796400000000000 + k * 33333;
+    d.seq = k;
+    d.frame = "camera";
+    saccade::instance_t i{};
+    i.utime = d.utime;
+    i.model_name = "/var/lib/saccade/models/mug.pcd";
+    i.trans[2] = 0.8;
+    i.quat[0] = 1;
+    i.size[0] = i.size[1] = i.size[2] = 0.1;
+    i.confidence = 0.9f;
+    i.track_id = 0;
+    i.track_state = saccade::instance_t::TRACKING;
+    i.track_state_name = "TRACKING";
+    d.instances.push_back(i);
+    d.num_instances = 1;
+    saccade::fixation_t f{};
+    f.utime = d.utime;
+    f.frame = "camera";
+    f.mode_name = "TRACKING";
+    f.reason = "detected";
+    for (const auto& [channel, bytes] :
+         {std::pair<std::string, std::vector<char>>{"SACCADE_DETECTIONS",
+                                                    std::vector<char>(d.getEncodedSize())},
+          {"SACCADE_FIXATION", std::vector<char>(f.getEncodedSize())}}) {
+      std::vector<char> data = bytes;
+      if (channel == "SACCADE_DETECTIONS")
+        d.encode(data.data(), 0, static_cast<int>(data.size()));
+      else
+        f.encode(data.data(), 0, static_cast<int>(data.size()));
+      lcm::LogEvent e{};
+      e.eventnum = 2 * k + (channel == "SACCADE_FIXATION");
+      e.timestamp = d.utime;
+      e.channel = channel;
+      e.datalen = static_cast<std::int32_t>(data.size());
+      e.data = data.data();
+      log.writeEvent(&e);
+    }
+  }
+}
+
+// saccade mcap onto a disk that fills: one line saying so, exit 1, no file (nor its .part).
+TEST(Mcap, OnAFullDiskItSaysSoExitsOneAndLeavesNoFile) {
+  Sandbox box;
+  const std::string log = box.Path("run.lcmlog");
+  WriteLog(log, 3000);
+  saccade::testing::SmallDisk disk(box.Path("disk"), "1M");
+  if (!disk.mounted()) GTEST_SKIP() << "needs root to mount a small tmpfs";
+  disk.Fill(64);
+  const std::string out = disk.dir() + "/run.mcap";
+  Child c = Spawn({kSaccade, "mcap", log, "-o", out}, box.Path("out"), box.Path("err"));
+  EXPECT_EQ(c.Wait().code, 1);
+  const std::string err = ReadFile(box.Path("err"));
+  EXPECT_NE(err.find("No space left on device"), std::string::npos) << err;
+  EXPECT_EQ(saccade::testing::Count(err, "\n"), 1) << err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(out + ".part"));
+  // With room, the same log converts whole.
+  Child ok = Spawn({kSaccade, "mcap", log, "-o", box.Path("run.mcap")}, box.Path("out"),
+                   box.Path("err"));
+  EXPECT_EQ(ok.Wait().code, 0) << ReadFile(box.Path("err"));
+  EXPECT_NE(ReadFile(box.Path("out")).find("3000 detections, 3000 fixations"), std::string::npos)
+      << ReadFile(box.Path("out"));
+}
+
+// What is not an lcm-logger log is refused before anything is written.
+TEST(Mcap, NotALogIsOneLineAndNoFile) {
+  Sandbox box;
+  std::ofstream(box.Path("notes.txt")) << "not a log\n";
+  Child c = Spawn({kSaccade, "mcap", box.Path("notes.txt"), "-o", box.Path("x.mcap")},
+                  box.Path("out"), box.Path("err"));
+  EXPECT_EQ(c.Wait().code, 1);
+  const std::string err = ReadFile(box.Path("err"));
+  EXPECT_NE(err.find("not an lcm-logger log"), std::string::npos) << err;
+  EXPECT_EQ(saccade::testing::Count(err, "\n"), 1) << err;
+  EXPECT_FALSE(std::filesystem::exists(box.Path("x.mcap")));
+  EXPECT_FALSE(std::filesystem::exists(box.Path("x.mcap.part")));
 }
 
 }  // namespace
