@@ -311,9 +311,9 @@ std::unique_ptr<Tracker> Tracker::Open(const DaemonSettings& settings, Heartbeat
     if (!mirrors.back()) return nullptr;
   }
   if (!settings.log.mcap.empty()) {
-    mirrors.push_back(OpenMcapMirror(
-        settings.log.mcap, static_cast<std::uint64_t>(settings.log.mcap_max_mb * 1e6),
-        settings.ros2, error));
+    mirrors.push_back(OpenMcapMirror(settings.log.mcap,
+                                     static_cast<std::uint64_t>(settings.log.mcap_max_mb * 1e6),
+                                     settings.ros2, error));
     if (!mirrors.back()) return nullptr;
   }
   std::unique_ptr<Bus> bus = OpenLcmBus(settings.bus, error, std::move(mirrors));

@@ -226,8 +226,7 @@ class LcmBus : public Bus {
       const Eigen::Quaternionf q(X_RM.rotation());
       i.quat[0] = q.w(), i.quat[1] = q.x(), i.quat[2] = q.y(), i.quat[3] = q.z();
       Copy3(X_RC_ * r.centroid_m, i.centroid);
-      const bool sized =
-          r.model >= 0 && r.model < static_cast<int>(frame.model_extents_m.size());
+      const bool sized = r.model >= 0 && r.model < static_cast<int>(frame.model_extents_m.size());
       Copy3(sized ? frame.model_extents_m[static_cast<std::size_t>(r.model)]
                   : Eigen::Vector3f::Zero().eval(),
             i.size);

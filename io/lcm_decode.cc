@@ -16,13 +16,13 @@ namespace {
 // count; then the nested type's.
 constexpr std::initializer_list<int> kDetectionsLayout = {8,  8, 8, 8, kLcmString, 1,
                                                           24, 8, 8, 4, 4,          4};
-constexpr std::initializer_list<int> kInstanceLayout = {
-    8, 4, kLcmString, 24, 32, 24, 24, 4, 4, 4, 4, 4, 4, 1, kLcmString};
+constexpr std::initializer_list<int> kInstanceLayout = {8, 4, kLcmString, 24, 32, 24, 24,        4,
+                                                        4, 4, 4,          4,  4,  1,  kLcmString};
 constexpr std::size_t kSmallestInstance = 8 + 4 + 5 + 24 + 32 + 24 + 24 + 4 + 16 + 4 + 1 + 5;
 constexpr std::initializer_list<int> kFixationLayout = {
     8, 8, 8, kLcmString, 24, 24, 8, 1, kLcmString, 4, 4, 4, kLcmString};
-constexpr std::initializer_list<int> kStatusLayout = {
-    8, 8, kLcmString, kLcmString, 1, 8, 8, 8, 8, 8, 8, 4, 8, 8, 8, 4, 1, 4};
+constexpr std::initializer_list<int> kStatusLayout = {8, 8, kLcmString, kLcmString, 1, 8, 8, 8, 8,
+                                                      8, 8, 4,          8,          8, 8, 4, 1, 4};
 constexpr std::initializer_list<int> kStageLayout = {8, kLcmString, 4, 4, 4, 4, 4};
 constexpr std::size_t kSmallestStage = 8 + 5 + 4 + 16;
 

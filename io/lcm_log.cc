@@ -143,8 +143,8 @@ bool ReadLcmLogEvents(const std::string& log_path,
     if (!in.read(reinterpret_cast<char*>(body.data()), static_cast<std::streamsize>(data_len)))
       break;
     std::int64_t utime = 0;
-    for (int i = 0; i < 8; ++i) utime = static_cast<std::int64_t>(
-                                    (static_cast<std::uint64_t>(utime) << 8) | header[12 + i]);
+    for (int i = 0; i < 8; ++i)
+      utime = static_cast<std::int64_t>((static_cast<std::uint64_t>(utime) << 8) | header[12 + i]);
     if (message({name, utime, body.data(), body.size()}))
       ++stats->written;
     else

@@ -15,11 +15,11 @@
 #include <saccade/fixation_t.hpp>
 #include <saccade/status_t.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <algorithm>
 #include <map>
 #include <optional>
 
@@ -102,17 +102,17 @@ class McapFile : public McapLog {
 
   bool Fixation(const fixation_t& f, std::int64_t log_utime, std::string* error) override {
     const Ros2Fixation m(f, naming_);
-    Write(fixation_, SerializeCdr(&m.message, geometry_msgs_msg_dds__PointStamped__desc),
-          log_utime, log_utime);
+    Write(fixation_, SerializeCdr(&m.message, geometry_msgs_msg_dds__PointStamped__desc), log_utime,
+          log_utime);
     return Check(error);
   }
 
   bool Status(const status_t& s, std::int64_t log_utime, std::string* error) override {
     if (!diagnostics_state_.Take(s)) return Check(error);
     ++diagnostics_written_;
-      Write(diagnostics_,
-            SerializeCdr(&diagnostics_state_.message, diagnostic_msgs_msg_dds__DiagnosticArray__desc),
-            log_utime, s.utime);
+    Write(diagnostics_,
+          SerializeCdr(&diagnostics_state_.message, diagnostic_msgs_msg_dds__DiagnosticArray__desc),
+          log_utime, s.utime);
     return Check(error);
   }
 
@@ -121,7 +121,8 @@ class McapFile : public McapLog {
   bool Image(std::int64_t stamp_utime, const std::string& jpeg, std::int64_t log_utime,
              std::string* error) override {
     if (image_ == 0)
-      image_ = Channel(naming_.topic_prefix + "/preview/compressed", "sensor_msgs/msg/CompressedImage");
+      image_ =
+          Channel(naming_.topic_prefix + "/preview/compressed", "sensor_msgs/msg/CompressedImage");
     // sensor_msgs/CompressedImage by hand: Header (stamp, frame_id), format, data (uint8[]).
     std::vector<std::uint8_t> b = {0x00, 0x01, 0x00, 0x00};
     const auto put32 = [&b](std::uint32_t v) {
@@ -180,7 +181,8 @@ class McapFile : public McapLog {
     m.channelId = channel;
     m.sequence = static_cast<std::uint32_t>(++sequence_[channel]);
     m.logTime = static_cast<mcap::Timestamp>(log_utime) * 1000;
-    m.publishTime = static_cast<mcap::Timestamp>(publish_utime > 0 ? publish_utime : log_utime) * 1000;
+    m.publishTime =
+        static_cast<mcap::Timestamp>(publish_utime > 0 ? publish_utime : log_utime) * 1000;
     m.data = reinterpret_cast<const std::byte*>(bytes.data());
     m.dataSize = bytes.size();
     const mcap::Status status = writer_.write(m);
@@ -224,8 +226,8 @@ class McapMirror : public MessageMirror {
 
   bool Open(std::string* error) {
     // Chunks of at most an eighth of a file, so that the size checked follows what was logged.
-    auto log = std::make_unique<McapFile>(
-        NextPath(), options_, std::min<std::uint64_t>(max_bytes_ / 8, 768 * 1024));
+    auto log = std::make_unique<McapFile>(NextPath(), options_,
+                                          std::min<std::uint64_t>(max_bytes_ / 8, 768 * 1024));
     if (!log->Open(error)) return false;
     log_ = std::move(log);
     return true;
@@ -235,8 +237,7 @@ class McapMirror : public MessageMirror {
     if (!log_) return;
     std::string error;
     const std::int64_t now = NowUtime();
-    if (!log_->Detections(d, now, &error) || !log_->Fixation(f, now, &error))
-      return Failed(error);
+    if (!log_->Detections(d, now, &error) || !log_->Fixation(f, now, &error)) return Failed(error);
     if (log_->Bytes() >= max_bytes_) {
       CloseCurrent();
       if (!Open(&error)) Failed(error);
@@ -299,7 +300,8 @@ bool ConvertLcmLogToMcap(const std::string& log, const std::string& channel_pref
   if (!mcap->Open(error)) return false;
   const std::string detections = DetectionsChannel(channel_prefix),
                     fixation = FixationChannel(channel_prefix),
-                    status = StatusChannel(channel_prefix), preview = PreviewChannel(channel_prefix);
+                    status = StatusChannel(channel_prefix),
+                    preview = PreviewChannel(channel_prefix);
   std::string failure;
   LcmLogStats stats;
   const bool read = ReadLcmLogEvents(

@@ -22,10 +22,11 @@ bool ConvertLcmLogToMcap(const std::string&, const std::string&, const std::stri
               "serialized with (install cyclonedds-dev and cyclonedds-tools, then rebuild)");
 }
 
-std::unique_ptr<MessageMirror> OpenMcapMirror(const std::string&, std::uint64_t,
-                                              const Ros2Options&, std::string* error) {
-  Fail(error, "log.mcap: this saccaded was built without Cyclone DDS (install cyclonedds-dev "
-              "and cyclonedds-tools, then rebuild)");
+std::unique_ptr<MessageMirror> OpenMcapMirror(const std::string&, std::uint64_t, const Ros2Options&,
+                                              std::string* error) {
+  Fail(error,
+       "log.mcap: this saccaded was built without Cyclone DDS (install cyclonedds-dev "
+       "and cyclonedds-tools, then rebuild)");
   return nullptr;
 }
 

@@ -32,7 +32,8 @@ class Ros2Mirror : public MessageMirror {
     participant_ = dds_create_participant(static_cast<dds_domainid_t>(domain_), nullptr, nullptr);
     if (participant_ < 0)
       return Fail(error, "ros2: cannot join DDS domain " + std::to_string(domain_) + ": " +
-                             dds_strretcode(participant_) + " (check CYCLONEDDS_URI; docs/ROS2.md)");
+                             dds_strretcode(participant_) +
+                             " (check CYCLONEDDS_URI; docs/ROS2.md)");
     dds_qos_t* qos = dds_create_qos();
     if (options_.reliable)
       dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
@@ -40,10 +41,10 @@ class Ros2Mirror : public MessageMirror {
       dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
     dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
     dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, options_.depth);
-    detections_ = Writer(&vision_msgs_msg_dds__Detection3DArray__desc, naming_.DetectionsTopic(),
-                         qos, error);
-    fixation_ = Writer(&geometry_msgs_msg_dds__PointStamped__desc, naming_.FixationTopic(), qos,
-                       error);
+    detections_ =
+        Writer(&vision_msgs_msg_dds__Detection3DArray__desc, naming_.DetectionsTopic(), qos, error);
+    fixation_ =
+        Writer(&geometry_msgs_msg_dds__PointStamped__desc, naming_.FixationTopic(), qos, error);
     if (options_.diagnostics)
       diagnostics_ =
           Writer(&diagnostic_msgs_msg_dds__DiagnosticArray__desc, "/diagnostics", qos, error);
@@ -98,13 +99,13 @@ class Ros2Mirror : public MessageMirror {
     dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
     dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
     dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
-    const dds_entity_t writer = Writer(&tf2_msgs_msg_dds__TFMessage__desc, "/tf_static", qos, error);
+    const dds_entity_t writer =
+        Writer(&tf2_msgs_msg_dds__TFMessage__desc, "/tf_static", qos, error);
     dds_delete_qos(qos);
     if (writer < 0) return false;
     timespec now{};
     clock_gettime(CLOCK_REALTIME, &now);
-    const Ros2TfStatic tf(robot_, naming_,
-                          std::int64_t{now.tv_sec} * 1000000 + now.tv_nsec / 1000);
+    const Ros2TfStatic tf(robot_, naming_, std::int64_t{now.tv_sec} * 1000000 + now.tv_nsec / 1000);
     const dds_return_t rc = dds_write(writer, &tf.message);
     if (rc < 0) return Fail(error, std::string("ros2: /tf_static not sent: ") + dds_strretcode(rc));
     return true;

@@ -18,11 +18,11 @@
 #include "vision_msgs.h"
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
-#include <cmath>
-#include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
@@ -268,6 +268,53 @@ TEST(Ros2, EveryFrameOnRos2MatchesItsLcmMessageFieldForField) {
   EXPECT_EQ(last.values.count("recognize_p50_ms"), 1u);
 }
 
+// With a robot frame: detections in it, and /tf_static (transient local) handing a subscriber
+// that joins late the camera's place in it, as a static_transform_publisher would.
+TEST(Ros2, WithARobotFrameALateSubscriberGetsTfStatic) {
+  Sandbox box;
+  const int domain = 1 + getpid() % 99;  // not Domain(): the other tests may run beside it
+  std::string config = ReadFile(kSourceDir + "/configs/demo.yaml");
+  config +=
+      "robot_frame:\n  enabled: true\n  name: base_link\n"
+      "  translation_m: [0.1, 0.0, 0.5]\n  rotation: [1, 0, 0, 0]\n"
+      "ros2:\n  camera_frame_id: head_camera\n";
+  std::ofstream(box.Path("robot.yaml")) << config;
+  Ros2Listener ros2(domain);
+  Child daemon =
+      Spawn({kSaccaded, "--config", box.Path("robot.yaml"), "--source",
+             "synthetic:static?rate=10&loop=1", "--lcm-url", box.url, "--ros2"},
+            box.Path("out"), box.Path("err"), {"ROS_DOMAIN_ID=" + std::to_string(domain)});
+  Heard heard;
+  ASSERT_TRUE(saccade::testing::WaitFor([&] {
+    ros2.Take(&heard);
+    return !heard.detections.empty();
+  })) << ReadFile(box.Path("err"));
+  EXPECT_EQ(heard.detections.begin()->second.frame_id, "base_link");
+  // A subscriber that comes after the transform was sent.
+  Reader tf(ros2.participant, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf_static",
+            /*transient_local=*/true);
+  std::vector<std::string> got;
+  ASSERT_TRUE(saccade::testing::WaitFor(
+      [&] {
+        tf.Take<tf2_msgs_msg_dds__TFMessage_>([&](const auto& m) {
+          for (std::uint32_t k = 0; k < m.transforms._length; ++k) {
+            const auto& t = m.transforms._buffer[k];
+            char line[200];
+            std::snprintf(line, sizeof line, "%s -> %s (%.2f, %.2f, %.2f) w %.2f",
+                          t.header.frame_id, t.child_frame_id, t.transform.translation.x,
+                          t.transform.translation.y, t.transform.translation.z,
+                          t.transform.rotation.w);
+            got.push_back(line);
+          }
+        });
+        return !got.empty();
+      },
+      30));
+  EXPECT_EQ(got, std::vector<std::string>{"base_link -> head_camera (0.10, 0.00, 0.50) w 1.00"});
+  daemon.Signal(SIGTERM);
+  EXPECT_EQ(daemon.Wait().code, 0) << ReadFile(box.Path("err"));
+}
+
 // A ROS_DOMAIN_ID a ROS 2 node would refuse stops saccaded with one line and exit code 1.
 TEST(Ros2, ABadDomainIdIsOneLineAndExitOne) {
   Sandbox box;
@@ -346,8 +393,8 @@ TEST(Mcap, OnAFullDiskItSaysSoExitsOneAndLeavesNoFile) {
   EXPECT_FALSE(std::filesystem::exists(out));
   EXPECT_FALSE(std::filesystem::exists(out + ".part"));
   // With room, the same log converts whole.
-  Child ok = Spawn({kSaccade, "mcap", log, "-o", box.Path("run.mcap")}, box.Path("out"),
-                   box.Path("err"));
+  Child ok =
+      Spawn({kSaccade, "mcap", log, "-o", box.Path("run.mcap")}, box.Path("out"), box.Path("err"));
   EXPECT_EQ(ok.Wait().code, 0) << ReadFile(box.Path("err"));
   EXPECT_NE(ReadFile(box.Path("out")).find("3000 detections, 3000 fixations"), std::string::npos)
       << ReadFile(box.Path("out"));
