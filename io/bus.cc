@@ -302,6 +302,7 @@ class LcmBus : public Bus {
         EncodePreview(preview, ArrivalEpochUtime(arrival_steady_ns), options, error);
     if (bytes.empty()) return false;
     std::lock_guard<std::mutex> lock(publish_mutex_);
+    for (const auto& mirror : mirrors_) mirror->PublishPreview(bytes);
     if (lcm_->publish(preview_channel_, bytes.data(), static_cast<unsigned>(bytes.size())) == 0)
       return true;
     return Fail(error, "preview: LCM did not send it");

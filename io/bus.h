@@ -183,6 +183,8 @@ class MessageMirror {
   /// A frame's messages.
   virtual void Publish(const detections_t& detections, const fixation_t& fixation) = 0;
   virtual void PublishStatus(const status_t& status) = 0;
+  /// A preview_t's bytes as sent (io/preview.h decodes them).
+  virtual void PublishPreview(const std::vector<std::uint8_t>& /*encoded*/) {}
   virtual std::string Describe() const = 0;
 };
 

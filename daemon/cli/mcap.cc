@@ -14,8 +14,9 @@ int RunMcap(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
             "Turns an lcm-logger log of saccaded into an MCAP file of ROS 2 messages (profile "
             "ros2, CDR, ros2msg schemas), as saccaded --ros2 publishes them: PREFIX/detections "
             "(vision_msgs/Detection3DArray), PREFIX/fixation (geometry_msgs/PointStamped), "
-            "/diagnostics once a second, and the previews' JPEGs as "
-            "PREFIX/preview/compressed (sensor_msgs/CompressedImage) when the log has them. "
+            "/diagnostics once a second, and the previews when the log has them: their points as "
+            "PREFIX/foveated_cloud (sensor_msgs/PointCloud2) and their JPEGs as "
+            "PREFIX/preview/compressed (sensor_msgs/CompressedImage). "
             "Foxglove opens it; ros2 bag play plays it (docs/ROS2.md).");
   args.Positional("LOG.lcmlog", "the lcm-logger log (required)")
       .Value("out", "OUT.mcap", "the MCAP file to write (required; -o is the same)")
@@ -44,7 +45,7 @@ int RunMcap(const std::vector<std::string>& argv, std::ostream& out, std::ostrea
   }
   out << "wrote " << args.Get("out") << ": " << counts.detections << " detections, "
       << counts.fixations << " fixations, " << counts.diagnostics << " diagnostics, "
-      << counts.images << " images";
+      << counts.previews << " previews (cloud and image)";
   if (counts.skipped > 0) out << "; " << counts.skipped << " malformed message(s) skipped";
   out << "\n";
   return kExitOk;

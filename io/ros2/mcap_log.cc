@@ -118,30 +118,17 @@ class McapFile : public McapLog {
 
   std::int64_t DiagnosticsWritten() const { return diagnostics_written_; }
 
-  bool Image(std::int64_t stamp_utime, const std::string& jpeg, std::int64_t log_utime,
-             std::string* error) override {
-    if (image_ == 0)
-      image_ =
-          Channel(naming_.topic_prefix + "/preview/compressed", "sensor_msgs/msg/CompressedImage");
-    // sensor_msgs/CompressedImage by hand: Header (stamp, frame_id), format, data (uint8[]).
-    std::vector<std::uint8_t> b = {0x00, 0x01, 0x00, 0x00};
-    const auto put32 = [&b](std::uint32_t v) {
-      while ((b.size() - 4) % 4 != 0) b.push_back(0);
-      for (int i = 0; i < 4; ++i) b.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
-    };
-    const auto put_string = [&](const std::string& s) {
-      put32(static_cast<std::uint32_t>(s.size() + 1));
-      b.insert(b.end(), s.begin(), s.end());
-      b.push_back(0);
-    };
-    const std::int64_t sec = stamp_utime / 1000000;
-    put32(static_cast<std::uint32_t>(static_cast<std::int32_t>(sec)));
-    put32(static_cast<std::uint32_t>((stamp_utime - sec * 1000000) * 1000));
-    put_string(naming_.camera_frame_id);
-    put_string("jpeg");
-    put32(static_cast<std::uint32_t>(jpeg.size()));
-    b.insert(b.end(), jpeg.begin(), jpeg.end());
-    Write(image_, b, log_utime, stamp_utime);
+  bool Preview(const DecodedPreview& p, std::int64_t log_utime, std::string* error) override {
+    if (cloud_ == 0) {  // the first preview: the log has them
+      cloud_ = Channel(naming_.CloudTopic(), "sensor_msgs/msg/PointCloud2");
+      image_ = Channel(naming_.ImageTopic(), "sensor_msgs/msg/CompressedImage");
+    }
+    const Ros2Preview m(p, naming_);
+    Write(cloud_, SerializeCdr(&m.cloud, sensor_msgs_msg_dds__PointCloud2__desc), log_utime,
+          p.utime);
+    if (p.image_format == "jpeg")
+      Write(image_, SerializeCdr(&m.image, sensor_msgs_msg_dds__CompressedImage__desc), log_utime,
+            p.utime);
     return Check(error);
   }
 
@@ -203,7 +190,7 @@ class McapFile : public McapLog {
   CheckedFile file_;
   mcap::McapWriter writer_;
   bool open_ = false;
-  mcap::ChannelId detections_ = 0, fixation_ = 0, diagnostics_ = 0, image_ = 0;
+  mcap::ChannelId detections_ = 0, fixation_ = 0, diagnostics_ = 0, cloud_ = 0, image_ = 0;
   std::map<mcap::ChannelId, std::uint64_t> sequence_;
   Ros2Diagnostics diagnostics_state_;
   std::int64_t messages_ = 0, diagnostics_written_ = 0;
@@ -247,6 +234,13 @@ class McapMirror : public MessageMirror {
   void PublishStatus(const status_t& s) override {
     std::string error;
     if (log_ && !log_->Status(s, NowUtime(), &error)) Failed(error);
+  }
+
+  void PublishPreview(const std::vector<std::uint8_t>& encoded) override {
+    std::string why;
+    const std::optional<DecodedPreview> p = DecodePreview(encoded.data(), encoded.size(), &why);
+    std::string error;
+    if (log_ && p && !log_->Preview(*p, NowUtime(), &error)) Failed(error);
   }
 
   std::string Describe() const override { return "MCAP log " + path_; }
@@ -331,11 +325,8 @@ bool ConvertLcmLogToMcap(const std::string& log, const std::string& channel_pref
         std::string why;
         const std::optional<DecodedPreview> p = DecodePreview(e.data, e.size, &why);
         if (!p) return false;
-        if (p->image_format == "jpeg") {
-          ++counts->images;
-          mcap->Image(p->utime, std::string(p->image.begin(), p->image.end()), e.utime, &failure);
-        }
-        return true;
+        ++counts->previews;
+        return mcap->Preview(*p, e.utime, &failure) || true;
       },
       &stats, error);
   counts->skipped = stats.skipped;

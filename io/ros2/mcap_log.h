@@ -14,6 +14,8 @@
 
 namespace saccade {
 
+struct DecodedPreview;
+
 class McapLog {
  public:
   /// Opens PATH.part for writing; nullptr with one line in `error` when it cannot be.
@@ -26,9 +28,9 @@ class McapLog {
   virtual bool Fixation(const fixation_t& f, std::int64_t log_utime, std::string* error) = 0;
   /// /diagnostics, once a second of statuses.
   virtual bool Status(const status_t& s, std::int64_t log_utime, std::string* error) = 0;
-  /// A preview's JPEG as sensor_msgs/msg/CompressedImage on PREFIX/preview/compressed.
-  virtual bool Image(std::int64_t stamp_utime, const std::string& jpeg, std::int64_t log_utime,
-                     std::string* error) = 0;
+  /// A preview: its points on PREFIX/foveated_cloud (sensor_msgs/msg/PointCloud2) and its
+  /// JPEG on PREFIX/preview/compressed (sensor_msgs/msg/CompressedImage).
+  virtual bool Preview(const DecodedPreview& p, std::int64_t log_utime, std::string* error) = 0;
   /// Bytes written so far, and messages.
   virtual std::uint64_t Bytes() const = 0;
   virtual std::int64_t Messages() const = 0;
@@ -40,7 +42,7 @@ class McapLog {
 /// What a conversion wrote, by kind, and the messages on saccaded's channels that did not
 /// decode (or corrupt stretches of the log).
 struct McapCounts {
-  std::int64_t detections = 0, fixations = 0, diagnostics = 0, images = 0, skipped = 0;
+  std::int64_t detections = 0, fixations = 0, diagnostics = 0, previews = 0, skipped = 0;
 };
 
 /// `saccade mcap`: the detections, fixations, statuses and previews of an lcm-logger log of

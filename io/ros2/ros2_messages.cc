@@ -1,5 +1,7 @@
 #include "io/ros2/ros2_messages.h"
 
+#include "io/preview.h"
+
 #include <dds/ddsi/ddsi_cdrstream.h>
 #include <saccade/detections_t.hpp>
 #include <saccade/fixation_t.hpp>
@@ -105,6 +107,42 @@ Ros2Fixation::Ros2Fixation(const fixation_t& f, const Ros2Naming& naming)
   message.header.stamp = Stamp(f.utime);
   message.header.frame_id = frame_id_.data();
   message.point = {f.fovea[0], f.fovea[1], f.fovea[2]};
+}
+
+Ros2Preview::Ros2Preview(const DecodedPreview& p, const Ros2Naming& naming)
+    : frame_id_(naming.camera_frame_id), format_(p.image_format), jpeg_(p.image) {
+  const builtin_interfaces_msg_dds__Time_ stamp = Stamp(p.utime);
+  // x, y, z as float32 metres, the tag as uint8, padded to 16 bytes a point.
+  static char kX[] = "x", kY[] = "y", kZ[] = "z", kTag[] = "tag";
+  fields_ = {{kX, 0, 7, 1}, {kY, 4, 7, 1}, {kZ, 8, 7, 1}, {kTag, 12, 2, 1}};
+  constexpr std::uint32_t kStep = 16;
+  const auto n = static_cast<std::size_t>(p.num_points);
+  points_.assign(n * kStep, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int a = 0; a < 3; ++a) {
+      const std::uint8_t* mm = p.points.data() + 6 * i + 2 * a;
+      const auto v = static_cast<std::int16_t>(mm[0] | (mm[1] << 8));
+      const float metres = static_cast<float>(v) * 0.001f;
+      std::memcpy(points_.data() + kStep * i + 4 * a, &metres, 4);
+    }
+    points_[kStep * i + 12] = p.points[6 * n + i];
+  }
+  cloud.header.stamp = stamp;
+  cloud.header.frame_id = frame_id_.data();
+  cloud.height = 1;
+  cloud.width = static_cast<std::uint32_t>(n);
+  cloud.fields = {4, 4, fields_.data(), false};
+  cloud.is_bigendian = false;
+  cloud.point_step = kStep;
+  cloud.row_step = static_cast<std::uint32_t>(kStep * n);
+  const auto bytes = static_cast<std::uint32_t>(points_.size());
+  cloud.data = {bytes, bytes, points_.data(), false};
+  cloud.is_dense = true;
+  image.header.stamp = stamp;
+  image.header.frame_id = frame_id_.data();
+  image.format = format_.data();
+  const auto size = static_cast<std::uint32_t>(jpeg_.size());
+  image.data = {size, size, jpeg_.data(), false};
 }
 
 bool Ros2Diagnostics::Take(const status_t& s) {
@@ -222,6 +260,13 @@ const std::map<std::string, std::string>& MsgFiles() {
       {"diagnostic_msgs/DiagnosticArray",
        "std_msgs/Header header\ndiagnostic_msgs/DiagnosticStatus[] status\n"},
       {"sensor_msgs/CompressedImage", "std_msgs/Header header\nstring format\nuint8[] data\n"},
+      {"sensor_msgs/PointField",
+       "uint8 INT8=1\nuint8 UINT8=2\nuint8 INT16=3\nuint8 UINT16=4\nuint8 INT32=5\n"
+       "uint8 UINT32=6\nuint8 FLOAT32=7\nuint8 FLOAT64=8\nstring name\nuint32 offset\n"
+       "uint8 datatype\nuint32 count\n"},
+      {"sensor_msgs/PointCloud2",
+       "std_msgs/Header header\nuint32 height\nuint32 width\nsensor_msgs/PointField[] fields\n"
+       "bool is_bigendian\nuint32 point_step\nuint32 row_step\nuint8[] data\nbool is_dense\n"},
   };
   return files;
 }

@@ -10,6 +10,7 @@
 
 #include "diagnostic_msgs.h"
 #include "geometry_msgs.h"
+#include "sensor_msgs.h"
 #include "tf2_msgs.h"
 #include "vision_msgs.h"
 
@@ -26,6 +27,8 @@ struct Ros2Naming {
   std::string topic_prefix = "/saccade";
   std::string DetectionsTopic() const { return topic_prefix + "/detections"; }
   std::string FixationTopic() const { return topic_prefix + "/fixation"; }
+  std::string CloudTopic() const { return topic_prefix + "/foveated_cloud"; }
+  std::string ImageTopic() const { return topic_prefix + "/preview/compressed"; }
   /// LCM's frame name as ROS 2's header.frame_id.
   std::string FrameId(const std::string& lcm_frame) const {
     return lcm_frame == "camera" ? camera_frame_id : lcm_frame;
@@ -57,6 +60,26 @@ class Ros2Fixation {
 
  private:
   std::string frame_id_;
+};
+
+struct DecodedPreview;
+
+/// A preview's PREFIX/foveated_cloud (sensor_msgs/PointCloud2: x, y, z float32 metres and a
+/// uint8 `tag`, preview_t's: the fovea's level, or 128 + the instance whose model point it is)
+/// and PREFIX/preview/compressed (sensor_msgs/CompressedImage, its JPEG), both in the camera
+/// frame. Likewise valid while this lives.
+class Ros2Preview {
+ public:
+  Ros2Preview(const DecodedPreview& p, const Ros2Naming& naming);
+  Ros2Preview(const Ros2Preview&) = delete;
+  Ros2Preview& operator=(const Ros2Preview&) = delete;
+  sensor_msgs_msg_dds__PointCloud2_ cloud{};
+  sensor_msgs_msg_dds__CompressedImage_ image{};
+
+ private:
+  std::string frame_id_, format_;
+  std::vector<sensor_msgs_msg_dds__PointField_> fields_;
+  std::vector<std::uint8_t> points_, jpeg_;
 };
 
 /// /diagnostics from saccaded's statuses: one DiagnosticArray a second.

@@ -1,6 +1,7 @@
 // The ROS 2 mirror: Cyclone DDS's writers of the topics of docs/ROS2.md.
 #include "core/fail.h"
 #include "io/log.h"
+#include "io/preview.h"
 #include "io/ros2/ros2.h"
 #include "io/ros2/ros2_messages.h"
 
@@ -34,13 +35,7 @@ class Ros2Mirror : public MessageMirror {
       return Fail(error, "ros2: cannot join DDS domain " + std::to_string(domain_) + ": " +
                              dds_strretcode(participant_) +
                              " (check CYCLONEDDS_URI; docs/ROS2.md)");
-    dds_qos_t* qos = dds_create_qos();
-    if (options_.reliable)
-      dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
-    else
-      dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
-    dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
-    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, options_.depth);
+    dds_qos_t* qos = Qos();
     detections_ =
         Writer(&vision_msgs_msg_dds__Detection3DArray__desc, naming_.DetectionsTopic(), qos, error);
     fixation_ =
@@ -60,6 +55,25 @@ class Ros2Mirror : public MessageMirror {
     Write(fixation_, &fixation.message, "fixation");
   }
 
+  void PublishPreview(const std::vector<std::uint8_t>& encoded) override {
+    std::string why;
+    const std::optional<DecodedPreview> p = DecodePreview(encoded.data(), encoded.size(), &why);
+    if (!p) return;     // made by this process: it decodes
+    if (cloud_ == 0) {  // the first preview: previews are on (preview.enabled)
+      std::string error;
+      dds_qos_t* qos = Qos();
+      cloud_ = Writer(&sensor_msgs_msg_dds__PointCloud2__desc, naming_.CloudTopic(), qos, &error);
+      image_ =
+          Writer(&sensor_msgs_msg_dds__CompressedImage__desc, naming_.ImageTopic(), qos, &error);
+      dds_delete_qos(qos);
+      if (cloud_ < 0 || image_ < 0) Log(LogLevel::kError, error);
+    }
+    if (cloud_ < 0 || image_ < 0) return;
+    const Ros2Preview preview(*p, naming_);
+    Write(cloud_, &preview.cloud, "foveated cloud");
+    if (p->image_format == "jpeg") Write(image_, &preview.image, "preview image");
+  }
+
   void PublishStatus(const status_t& s) override {
     if (diagnostics_ > 0 && diagnostics_state_.Take(s))
       Write(diagnostics_, &diagnostics_state_.message, "diagnostics");
@@ -67,11 +81,24 @@ class Ros2Mirror : public MessageMirror {
 
   std::string Describe() const override {
     return "ROS 2 on DDS domain " + std::to_string(domain_) + " (" + naming_.DetectionsTopic() +
-           ", " + naming_.FixationTopic() + (options_.diagnostics ? ", /diagnostics" : "") +
+           ", " + naming_.FixationTopic() + (options_.diagnostics ? ", /diagnostics" : "") + ", " +
+           naming_.CloudTopic() + " and " + naming_.ImageTopic() + " with previews" +
            (robot_.enabled ? ", /tf_static" : "") + ")";
   }
 
  private:
+  // ROS 2's default (reliable, volatile, keep last 10) or as configured. The caller deletes it.
+  dds_qos_t* Qos() const {
+    dds_qos_t* qos = dds_create_qos();
+    if (options_.reliable)
+      dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+    else
+      dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
+    dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, options_.depth);
+    return qos;
+  }
+
   // A ROS 2 topic /a/b is the DDS topic rt/a/b.
   dds_entity_t Writer(const dds_topic_descriptor_t* type, const std::string& ros_topic,
                       const dds_qos_t* qos, std::string* error) {
@@ -115,7 +142,8 @@ class Ros2Mirror : public MessageMirror {
   const RobotFrameOptions robot_;
   const int domain_;
   const Ros2Naming naming_;
-  dds_entity_t participant_ = 0, detections_ = 0, fixation_ = 0, diagnostics_ = 0;
+  dds_entity_t participant_ = 0, detections_ = 0, fixation_ = 0, diagnostics_ = 0, cloud_ = 0,
+               image_ = 0;
   Ros2Diagnostics diagnostics_state_;
   LogLimiter write_log_{1};
 };

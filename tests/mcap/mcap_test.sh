@@ -39,11 +39,11 @@ for f in "$work"/direct*.mcap; do
 done
 
 python3 - "$work" <<'PY'
-import glob, json, sys
+import glob, json, re, sys
 work = sys.argv[1]
 lcm = [json.loads(l) for l in open(f"{work}/lcm.jsonl")]
 def check(name, files, every_lcm_frame):
-    detections, fixations, diagnostics = {}, 0, 0
+    detections, fixations, diagnostics, clouds = {}, 0, 0, 0
     for path in files:
         d = json.load(open(path))
         assert d["profile"] == "ros2", (path, d["profile"])
@@ -58,9 +58,14 @@ def check(name, files, every_lcm_frame):
                 detections[s["sec"] * 1000000 + s["nanosec"] // 1000] = msg
             elif m["topic"] == "/saccade/fixation":
                 fixations += 1
+            elif m["topic"] == "/saccade/foveated_cloud":
+                clouds += 1
+                assert msg["width"] > 100 and msg["point_step"] == 16, (path, msg["width"])
+                assert [f["name"] for f in msg["fields"]] == ["x", "y", "z", "tag"], msg["fields"]
+                assert 0.3 < sorted(msg["z"])[len(msg["z"]) // 2] < 5, "median depth"
             elif m["topic"] == "/diagnostics":
                 diagnostics += 1
-                assert msg["status"][0]["name"] == "saccaded"
+                assert msg["status"][0]["name"] == "saccaded", msg["status"]
     matched = instances = 0
     for frame in lcm:
         msg = detections.get(frame["utime"])
@@ -73,8 +78,9 @@ def check(name, files, every_lcm_frame):
         for ros, i in zip(msg["detections"], seen):
             instances += 1
             r = ros["results"][0]
-            assert r["hypothesis"]["class_id"] == "target"
-            assert ros["id"] == str(i["track_id"])
+            assert r["hypothesis"]["class_id"] == "target", r["hypothesis"]
+            # an instance no track took (id -1) has no id
+            assert ros["id"] == (str(i["track_id"]) if i["track_id"] >= 0 else ""), (ros["id"], i)
             p = r["pose"]["pose"]["position"]
             for axis, v in zip("xyz", i["trans"]):
                 assert abs(p[axis] - v) < 1e-6, (p, i["trans"])
@@ -84,15 +90,17 @@ def check(name, files, every_lcm_frame):
     else:
         assert matched == len(lcm), (name, matched, len(lcm))
     assert fixations == len(detections), (name, fixations, len(detections))
-    assert instances >= 50 and diagnostics >= 2, (name, instances, diagnostics)
+    assert instances >= 50 and diagnostics >= 2 and clouds >= 10, (name, instances, diagnostics, clouds)
     print(f"{name}: {len(detections)} frames, {instances} detections, {diagnostics} diagnostics, "
-          f"{len(files)} file(s), every one decoded")
+          f"{clouds} foveated clouds, {len(files)} file(s), every one decoded")
     return len(detections)
 assert len(lcm) >= 100, f"lcm-logger caught {len(lcm)} frames"
 check("saccade mcap", [f"{work}/run.json"], True)
 direct = sorted(glob.glob(f"{work}/direct*.mcap.json"))
 assert len(direct) >= 2, f"saccaded's log was not rotated: {direct}"
-assert check("saccaded log.mcap", direct, False) == 120  # every frame saccaded processed
+processed = int(re.search(r"run: (\d+) frames processed", open(f"{work}/d.err").read()).group(1))
+frames = check("saccaded log.mcap", direct, False)
+assert frames == processed, f"saccaded processed {processed} frames, its MCAP files hold {frames}"
 PY
 grep -q "^wrote .*: [0-9]* detections, [0-9]* fixations" "$work/mcap.out" || fail "$(cat "$work/mcap.out")"
 echo "mcap test: passed"

@@ -41,6 +41,15 @@ for await (const m of reader.readMessages()) {
   try {
     const decoded = readers.get(channel.schemaId).readMessage(m.data);
     if (schema.name === "sensor_msgs/msg/CompressedImage") decoded.data = decoded.data.length;
+    if (schema.name === "sensor_msgs/msg/PointCloud2") {
+      // The points' z (metres, by the field named z), then only the data's length.
+      const z = decoded.fields.find((f) => f.name === "z");
+      const view = new DataView(decoded.data.buffer, decoded.data.byteOffset, decoded.data.byteLength);
+      decoded.z = [];
+      for (let i = 0; i < decoded.width; i++)
+        decoded.z.push(view.getFloat32(i * decoded.point_step + z.offset, !decoded.is_bigendian));
+      decoded.data = decoded.data.length;
+    }
     messages.push({ topic: channel.topic, log_time: m.logTime.toString(), message: decoded });
   } catch (e) {
     failed++;

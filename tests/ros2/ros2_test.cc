@@ -14,6 +14,7 @@
 
 #include "diagnostic_msgs.h"
 #include "geometry_msgs.h"
+#include "sensor_msgs.h"
 #include "tf2_msgs.h"
 #include "vision_msgs.h"
 
@@ -93,6 +94,8 @@ struct Heard {
   std::map<std::int64_t, std::vector<double>> fixations;
   std::map<std::int64_t, std::string> fixation_frames;
   std::vector<Diagnostic> diagnostics;
+  std::vector<std::uint32_t> cloud_points;  // each foveated cloud's
+  int images = 0;
 };
 
 struct Ros2Listener {
@@ -101,8 +104,10 @@ struct Ros2Listener {
         detections(participant, &vision_msgs_msg_dds__Detection3DArray__desc,
                    "rt/saccade/detections"),
         fixation(participant, &geometry_msgs_msg_dds__PointStamped__desc, "rt/saccade/fixation"),
-        diagnostics(participant, &diagnostic_msgs_msg_dds__DiagnosticArray__desc,
-                    "rt/diagnostics") {}
+        diagnostics(participant, &diagnostic_msgs_msg_dds__DiagnosticArray__desc, "rt/diagnostics"),
+        cloud(participant, &sensor_msgs_msg_dds__PointCloud2__desc, "rt/saccade/foveated_cloud"),
+        image(participant, &sensor_msgs_msg_dds__CompressedImage__desc,
+              "rt/saccade/preview/compressed") {}
   ~Ros2Listener() { dds_delete(participant); }
 
   int Take(Heard* h) {
@@ -151,11 +156,22 @@ struct Ros2Listener {
         h->diagnostics.push_back(d);
       }
     });
+    n += cloud.Take<sensor_msgs_msg_dds__PointCloud2_>([&](const auto& m) {
+      EXPECT_EQ(m.point_step, 16u);
+      EXPECT_EQ(m.data._length, m.width * 16u);
+      EXPECT_EQ(m.fields._length, 4u);
+      h->cloud_points.push_back(m.width);
+    });
+    n += image.Take<sensor_msgs_msg_dds__CompressedImage_>([&](const auto& m) {
+      EXPECT_STREQ(m.format, "jpeg");
+      EXPECT_GT(m.data._length, 1000u);
+      ++h->images;
+    });
     return n;
   }
 
   dds_entity_t participant;
-  Reader detections, fixation, diagnostics;
+  Reader detections, fixation, diagnostics, cloud, image;
 };
 
 // What saccaded sent over LCM.
@@ -266,6 +282,11 @@ TEST(Ros2, EveryFrameOnRos2MatchesItsLcmMessageFieldForField) {
   EXPECT_LE(last.level, 1);
   EXPECT_EQ(last.values.count("frames_processed"), 1u);
   EXPECT_EQ(last.values.count("recognize_p50_ms"), 1u);
+
+  // demo.yaml turns previews on (5 a second over four seconds): each as a cloud and an image.
+  EXPECT_GE(heard.cloud_points.size(), 10u);
+  EXPECT_EQ(heard.images, static_cast<int>(heard.cloud_points.size()));
+  for (std::uint32_t n : heard.cloud_points) EXPECT_GT(n, 100u);
 }
 
 // With a robot frame: detections in it, and /tf_static (transient local) handing a subscriber
