@@ -903,6 +903,15 @@ TEST(Saccaded, WithAKeyOnlySignedCommandsAreActedOnAndReplaysAreRefused) {
   EXPECT_LT(std::count(err.begin(), err.end(), '\n'), 80) << "the refusals flooded the log";
 }
 
+// Sends a running daemon a SWITCH_MODEL whose model path is `bytes` long.
+void SendSwitchWithAPathOf(StatusWatch& watch, std::size_t bytes) {
+  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
+  saccade::command_t huge{};
+  huge.kind = saccade::command_t::SWITCH_MODEL;
+  huge.model = "/var/lib/saccade/models/" + std::string(bytes, 'a') + ".pcd";
+  watch.lcm().publish("SACCADE_COMMAND", &huge);
+}
+
 // A SWITCH_MODEL whose model path is 60 KB long (the most one datagram carries): refused,
 // counted and said in one short line; the daemon tracks on. (A 1 MB one travels in LCM's
 // fragments, which the kernel drops beyond its receive buffer, net.core.rmem_max: it never
@@ -911,11 +920,7 @@ TEST(Saccaded, ASixtyKilobyteModelPathIsRefusedAndCounted) {
   Sandbox box;
   StatusWatch watch(box.url);
   Child daemon = DemoDaemon(box);
-  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
-  saccade::command_t huge{};
-  huge.kind = saccade::command_t::SWITCH_MODEL;
-  huge.model = "/var/lib/saccade/models/" + std::string(60000, 'a') + ".pcd";
-  watch.lcm().publish("SACCADE_COMMAND", &huge);
+  SendSwitchWithAPathOf(watch, 60000);
   EXPECT_TRUE(watch.WaitFor([](const saccade::status_t& s) {
     return s.commands_rejected == 1 && s.commands_accepted == 0;
   })) << ReadFile(box.Path("err"));
@@ -937,11 +942,7 @@ TEST(Saccaded, AMegabyteCommandIsRefusedOrCountedAsDroppedByTheKernel) {
   Sandbox box;
   StatusWatch watch(box.url);
   Child daemon = DemoDaemon(box);
-  ASSERT_TRUE(watch.WaitFor([](const saccade::status_t& s) { return s.frames_processed > 0; }));
-  saccade::command_t huge{};
-  huge.kind = saccade::command_t::SWITCH_MODEL;
-  huge.model = "/var/lib/saccade/models/" + std::string(1 << 20, 'a') + ".pcd";
-  watch.lcm().publish("SACCADE_COMMAND", &huge);
+  SendSwitchWithAPathOf(watch, 1 << 20);
   saccade::status_t seen{};
   EXPECT_TRUE(watch.WaitFor([&](const saccade::status_t& s) {
     seen = s;
