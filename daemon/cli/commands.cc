@@ -1,4 +1,5 @@
 #include "daemon/cli/commands.h"
+#include "daemon/cli/progress.h"
 
 #include "core/eval/reference_pipeline.h"
 #include "core/fail.h"
@@ -361,10 +362,15 @@ int RunBench(const std::vector<std::string>& argv, std::ostream& out, std::ostre
 
   BenchRun plain{"plain", {}, {}, false}, plain_same{"plain_saccade_stages", {}, {}, false},
       fov{"foveated", {}, {}, false};
-  // One warm-up each (caches, page faults, TBB threads), then the measured frames.
+  // One warm-up each (caches, page faults, TBB threads), then the measured frames; on a
+  // terminal, a line of progress on stderr.
+  ProgressLine progress(err, ProgressLine::StderrIsATerminal());
+  const auto total = static_cast<std::size_t>(3 * (frames + 1));
+  std::size_t done = 0;
   for (int i = 0; i <= frames; ++i) {
     auto r = RecognizeReference(*reference_model, in.scene, gold, &error);
     if (i > 0) plain.runs.push_back(std::move(r));
+    progress.Show("saccade bench: frames", ++done, total);
   }
   // The same options as the foveated run (radii fitted when they are), but r_ks = 0.02.
   RecognitionOptions gold_fast = RadiiForModel(in.config.recognition, model->scale());
@@ -373,11 +379,14 @@ int RunBench(const std::vector<std::string>& argv, std::ostream& out, std::ostre
   for (int i = 0; i <= frames; ++i) {
     auto r = Recognize(*model, in.scene, plain_fast, gold_fast, parallel_for, &error);
     if (i > 0) plain_same.runs.push_back(std::move(r));
+    progress.Show("saccade bench: frames", ++done, total);
   }
   for (int i = 0; i <= frames; ++i) {
     auto r = Recognize(*model, in.scene, foveated, in.config.recognition, parallel_for, &error);
     if (i > 0) fov.runs.push_back(std::move(r));
+    progress.Show("saccade bench: frames", ++done, total);
   }
+  progress.Clear();
   const Eigen::Vector3f centroid = model->centroid();
   for (BenchRun* run : {&plain, &plain_same, &fov}) Judge(run, truth, centroid);
   const double speedup = TotalMedian(plain) / std::max(1e-9, TotalMedian(fov));

@@ -14,6 +14,7 @@
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/cli/pick.h"
+#include "daemon/cli/progress.h"
 #include "daemon/eval/overlays.h"
 #include "daemon/tbb_parallel.h"
 #include "io/cloud_io.h"
@@ -89,7 +90,9 @@ int ModelFromCaptures(const Args& args, std::ostream& out, std::ostream& err) {
 
   std::string error;
   std::vector<Cloud> cuts;
+  ProgressLine progress(err, ProgressLine::StderrIsATerminal());  // on a terminal only
   for (std::size_t i = 0; i < paths.size(); ++i) {
+    progress.Show("saccade model: captures cut", i, paths.size());
     const int object = objects.empty() ? 0 : objects[objects.size() == 1 ? 0 : i];
     auto cut = CutCapture(paths[i], object, *pick, &error);
     if (!cut) {
@@ -98,6 +101,8 @@ int ModelFromCaptures(const Args& args, std::ostream& out, std::ostream& err) {
     }
     cuts.push_back(std::move(*cut));
   }
+  progress.Show("saccade model: captures cut", paths.size(), paths.size());
+  progress.Clear();
   std::vector<const Cloud*> captures;
   for (const Cloud& c : cuts) captures.push_back(&c);
   const AlignmentOptions options;
