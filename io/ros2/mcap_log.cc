@@ -303,30 +303,35 @@ bool ConvertLcmLogToMcap(const std::string& log, const std::string& channel_pref
       [&](const std::string& c) {
         return c == detections || c == fixation || c == status || c == preview;
       },
+      // Returns whether the message decoded (counted as written, else skipped).
       [&](const LcmLogEvent& e) {
         if (!failure.empty()) return true;  // a write failed: the rest is not converted
         if (e.channel == detections) {
           const std::optional<detections_t> m = DecodeDetectionsMessage(e.data, e.size);
           if (!m) return false;
           ++counts->detections;
-          return mcap->Detections(*m, e.utime, &failure) || true;
+          mcap->Detections(*m, e.utime, &failure);  // a failed write is kept in `failure`
+          return true;
         }
         if (e.channel == fixation) {
           const std::optional<fixation_t> m = DecodeFixationMessage(e.data, e.size);
           if (!m) return false;
           ++counts->fixations;
-          return mcap->Fixation(*m, e.utime, &failure) || true;
+          mcap->Fixation(*m, e.utime, &failure);  // a failed write is kept in `failure`
+          return true;
         }
         if (e.channel == status) {
           const std::optional<status_t> m = DecodeStatusMessage(e.data, e.size);
           if (!m) return false;
-          return mcap->Status(*m, e.utime, &failure) || true;
+          mcap->Status(*m, e.utime, &failure);  // a failed write is kept in `failure`
+          return true;
         }
         std::string why;
         const std::optional<DecodedPreview> p = DecodePreview(e.data, e.size, &why);
         if (!p) return false;
         ++counts->previews;
-        return mcap->Preview(*p, e.utime, &failure) || true;
+        mcap->Preview(*p, e.utime, &failure);  // a failed write is kept in `failure`
+        return true;
       },
       &stats, error);
   counts->skipped = stats.skipped;
