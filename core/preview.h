@@ -1,6 +1,6 @@
 // A small picture of one processed frame for people watching (SACCADE_PREVIEW, docs/VIEWER.md):
 // the frame's image decimated, the foveated cloud's coarse points by level, each instance's
-// model points at its pose, and the fovea's boxes. Pure: io/preview.cc encodes it for LCM.
+// model points at its pose, and the fovea's boxes. Pure: io/lcm/preview.cc encodes it for LCM.
 #pragma once
 
 #include "core/camera.h"

@@ -22,7 +22,7 @@ struct ColourCalibration {
 };
 
 /// X_CD of a colour camera whose origin is at `t` (metres) in the depth camera's frame, turned
-/// by the rotation vector `r` (radians): the form of a colour camera file (io/images.h).
+/// by the rotation vector `r` (radians): the form of a colour camera file (io/formats/images.h).
 Eigen::Isometry3d ColourFromDepth(const double t[3], const double r[3]);
 
 /// A Kinect v1 / PrimeSense layout at 640x480: depth camera fx = fy = 580, colour camera

@@ -7,7 +7,7 @@
 //     a->Choice("growth", &growth_kind, {{"additive", GrowthKind::kAdditive}, ...});
 //   }
 //
-// The name is the configuration key. io/config.h reads YAML through it, strictly; SameFields
+// The name is the configuration key. io/config/config.h reads YAML through it, strictly; SameFields
 // compares two structs through it, so equality cannot go stale when a field is added. Pure: no
 // I/O here.
 #pragma once

@@ -2,7 +2,7 @@
 // over a status period or a whole run. Not thread-safe; its owner locks.
 #pragma once
 
-#include "io/bus.h"
+#include "io/lcm/bus.h"
 
 #include <algorithm>
 #include <cstdint>

@@ -8,7 +8,7 @@
 #include "daemon/settings.h"
 #include "daemon/signals.h"
 #include "daemon/tracker.h"
-#include "io/log.h"
+#include "io/base/log.h"
 
 #include <signal.h>
 #include <unistd.h>

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "core/fail.h"
-#include "io/config.h"
-#include "io/log.h"
+#include "io/base/log.h"
+#include "io/config/config.h"
 
 namespace saccade {
 

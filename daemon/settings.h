@@ -9,8 +9,8 @@
 #include "core/preview.h"
 #include "core/recognition.h"
 #include "core/saliency.h"
-#include "io/bus.h"
-#include "io/log.h"
+#include "io/base/log.h"
+#include "io/lcm/bus.h"
 #include "io/ros2/mcap_log.h"
 #include "io/ros2/ros2.h"
 

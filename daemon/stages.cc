@@ -3,9 +3,10 @@
 #include "core/fail.h"
 #include "core/foveation.h"
 #include "daemon/tbb_parallel.h"
-#include "io/cloud_io.h"
-#include "io/frame_source.h"
-#include "io/log.h"
+#include "io/base/log.h"
+#include "io/formats/cloud_io.h"
+#include "io/sources/frame_source.h"
+#include "io/sources/model_source.h"
 
 #include <algorithm>
 #include <cstdio>

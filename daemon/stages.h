@@ -12,9 +12,9 @@
 #include "core/saliency.h"
 #include "daemon/latency_histogram.h"
 #include "daemon/settings.h"
-#include "io/bus.h"
-#include "io/frame_source.h"
-#include "io/log.h"
+#include "io/base/log.h"
+#include "io/lcm/bus.h"
+#include "io/sources/frame_source.h"
 
 #include <atomic>
 #include <memory>

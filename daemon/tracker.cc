@@ -3,7 +3,7 @@
 #include "core/fail.h"
 #include "daemon/serial_worker.h"
 #include "daemon/stages.h"
-#include "io/log.h"
+#include "io/base/log.h"
 
 #include <tbb/info.h>
 #include <tbb/parallel_pipeline.h>

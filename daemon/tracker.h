@@ -6,8 +6,8 @@
 #pragma once
 
 #include "daemon/settings.h"
-#include "io/bus.h"
-#include "io/frame_source.h"
+#include "io/lcm/bus.h"
+#include "io/sources/frame_source.h"
 
 #include <functional>
 #include <memory>

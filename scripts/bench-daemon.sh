@@ -26,7 +26,7 @@ run() {  # name, source to record, base config, frames in flight, models (comma-
   printf '%-32s frames in flight %s: ' "$name" "$in_flight"
   # timeout's SIGINT is the normal end of a run: saccaded finishes its frames and reports.
   { SACCADE_VIRTUAL_DEVICE="$work/frames" SACCADE_VIRTUAL_DEVICE_FPS=30 \
-      LD_LIBRARY_PATH="$build/io/openni2/runtime" \
+      LD_LIBRARY_PATH="$build/io/sources/openni2/runtime" \
       timeout -s INT "$seconds" "$build/daemon/saccaded" --config "$work/bench.yaml" \
       --source openni2:// --lcm-url "udpm://239.255.76.67:7667?ttl=0" 2>&1 || true; } |
     sed -n 's/^saccaded: info: run: //p'

@@ -56,16 +56,16 @@ for arg in "${link[@]}"; do
   esac
 done
 flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
-       "${defines[@]}" "${includes[@]}" -I"$build_dir/io/lcmtypes")
+       "${defines[@]}" "${includes[@]}" -I"$build_dir/io/lcm/lcmtypes")
 declare -A sources=(
-  [pcd]="tests/fuzz/pcd_check_fuzz.cc io/pcd_check.cc"
-  [command]="tests/fuzz/command_fuzz.cc io/bus.cc io/log.cc io/fixation_log.cc
-             io/detections_log.cc io/lcm_log.cc io/viewer.cc io/preview.cc
+  [pcd]="tests/fuzz/pcd_check_fuzz.cc io/formats/pcd_check.cc"
+  [command]="tests/fuzz/command_fuzz.cc io/lcm/bus.cc io/base/log.cc io/lcm/fixation_log.cc
+             io/lcm/detections_log.cc io/lcm/lcm_log.cc io/viewer/viewer.cc io/lcm/preview.cc
              attention/attention.cc core/foveation.cc"
-  [config]="tests/fuzz/config_fuzz.cc io/config.cc daemon/settings.cc io/truth_file.cc
-            io/images.cc io/fixation_log.cc io/lcm_log.cc"
-  [image]="tests/fuzz/image_fuzz.cc io/images.cc"
-  [source]="tests/fuzz/source_fuzz.cc io/frame_source.cc"
+  [config]="tests/fuzz/config_fuzz.cc io/config/config.cc daemon/settings.cc io/formats/truth_file.cc
+            io/formats/images.cc io/lcm/fixation_log.cc io/lcm/lcm_log.cc"
+  [image]="tests/fuzz/image_fuzz.cc io/formats/images.cc"
+  [source]="tests/fuzz/source_fuzz.cc io/sources/frame_source.cc"
 )
 # What uninstrumented libraries (OpenNI2's drivers) keep until exit is not ours to report.
 export LSAN_OPTIONS="suppressions=$root/scripts/sanitizers/lsan.supp:print_suppressions=0"

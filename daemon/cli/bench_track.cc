@@ -17,13 +17,14 @@
 #include "daemon/settings.h"
 #include "daemon/tbb_parallel.h"
 #include "daemon/tracker.h"
-#include "io/cloud_io.h"
-#include "io/frame_source.h"
-#include "io/json.h"
-#include "io/log.h"
-#include "io/memory_bus.h"
-#include "io/output_file.h"
-#include "io/truth_file.h"
+#include "io/base/json.h"
+#include "io/base/log.h"
+#include "io/formats/cloud_io.h"
+#include "io/formats/output_file.h"
+#include "io/formats/truth_file.h"
+#include "io/lcm/memory_bus.h"
+#include "io/sources/frame_source.h"
+#include "io/sources/model_source.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,10 +5,10 @@
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/exit_codes.h"
-#include "io/bus.h"
-#include "io/command_key.h"
-#include "io/lcm_open.h"
-#include "io/text.h"
+#include "io/base/text.h"
+#include "io/lcm/bus.h"
+#include "io/lcm/command_key.h"
+#include "io/lcm/lcm_open.h"
 
 #include <lcm/lcm-cpp.hpp>
 #include <saccade/command_t.hpp>

@@ -10,9 +10,10 @@
 #include "daemon/cli/recognize_library.h"
 #include "daemon/eval/overlays.h"
 #include "daemon/tbb_parallel.h"
-#include "io/cloud_io.h"
-#include "io/config.h"
-#include "io/json.h"
+#include "io/base/json.h"
+#include "io/config/config.h"
+#include "io/formats/cloud_io.h"
+#include "io/sources/model_source.h"
 
 #include <algorithm>
 #include <filesystem>

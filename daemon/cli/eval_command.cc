@@ -17,10 +17,11 @@
 #include "daemon/eval/plots.h"
 #include "daemon/eval/report.h"
 #include "daemon/tbb_parallel.h"
-#include "io/cloud_io.h"
-#include "io/config.h"
-#include "io/frame_source.h"
-#include "io/output_file.h"
+#include "io/config/config.h"
+#include "io/formats/cloud_io.h"
+#include "io/formats/output_file.h"
+#include "io/sources/frame_source.h"
+#include "io/sources/model_source.h"
 
 #include <pcl/console/print.h>
 

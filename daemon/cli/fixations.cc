@@ -4,11 +4,11 @@
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/signals.h"
-#include "io/bus.h"
-#include "io/detections_log.h"
-#include "io/fixation_log.h"
-#include "io/lcm_open.h"
-#include "io/output_file.h"
+#include "io/formats/output_file.h"
+#include "io/lcm/bus.h"
+#include "io/lcm/detections_log.h"
+#include "io/lcm/fixation_log.h"
+#include "io/lcm/lcm_open.h"
 
 #include <lcm/lcm-cpp.hpp>
 

@@ -4,8 +4,8 @@
 #include "core/types.h"
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
-#include "io/cloud_io.h"
-#include "io/json.h"
+#include "io/base/json.h"
+#include "io/formats/cloud_io.h"
 
 #include <Eigen/Core>
 

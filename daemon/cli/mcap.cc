@@ -1,7 +1,7 @@
 // saccade mcap: an lcm-logger log of saccaded as an MCAP file of ROS 2 messages (docs/ROS2.md).
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
-#include "io/bus.h"
+#include "io/lcm/bus.h"
 #include "io/ros2/mcap_log.h"
 #include "io/ros2/ros2.h"
 

@@ -17,9 +17,10 @@
 #include "daemon/cli/progress.h"
 #include "daemon/eval/overlays.h"
 #include "daemon/tbb_parallel.h"
-#include "io/cloud_io.h"
-#include "io/json.h"
-#include "io/mesh_io.h"
+#include "io/base/json.h"
+#include "io/formats/cloud_io.h"
+#include "io/formats/mesh_io.h"
+#include "io/sources/model_source.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,8 +5,9 @@
 #include "core/fail.h"
 #include "core/library.h"
 #include "daemon/exit_codes.h"
-#include "io/cloud_io.h"
-#include "io/json.h"
+#include "io/base/json.h"
+#include "io/formats/cloud_io.h"
+#include "io/sources/model_source.h"
 
 #include <iomanip>
 #include <memory>

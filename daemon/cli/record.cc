@@ -4,10 +4,10 @@
 #include "daemon/cli/commands.h"
 #include "daemon/cli/progress.h"
 #include "daemon/signals.h"
-#include "io/fakenect_dump.h"
-#include "io/frame_source.h"
-#include "io/frame_writer.h"
-#include "io/openni2_source.h"
+#include "io/formats/fakenect_dump.h"
+#include "io/formats/frame_writer.h"
+#include "io/sources/frame_source.h"
+#include "io/sources/openni2_source.h"
 
 #include <signal.h>
 

@@ -5,8 +5,8 @@
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/cli/pick.h"
-#include "io/cloud_io.h"
-#include "io/json.h"
+#include "io/base/json.h"
+#include "io/formats/cloud_io.h"
 
 #include <cmath>
 #include <iomanip>

@@ -1,9 +1,9 @@
-// `saccade view`: the live web viewer (io/viewer.h, docs/VIEWER.md).
+// `saccade view`: the live web viewer (io/viewer/viewer.h, docs/VIEWER.md).
 #include "daemon/args.h"
 #include "daemon/cli/commands.h"
 #include "daemon/signals.h"
-#include "io/bus.h"
-#include "io/viewer.h"
+#include "io/lcm/bus.h"
+#include "io/viewer/viewer.h"
 
 #include <signal.h>
 

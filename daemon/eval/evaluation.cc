@@ -9,7 +9,7 @@
 #include "core/sim/rerender.h"
 #include "daemon/eval/other_captures.h"
 #include "daemon/eval/texture.h"
-#include "io/cloud_io.h"
+#include "io/formats/cloud_io.h"
 
 #include <algorithm>
 #include <chrono>

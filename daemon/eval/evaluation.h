@@ -9,8 +9,8 @@
 #include "core/eval/evaluation.h"
 #include "core/parallel.h"
 #include "core/recognition.h"
-#include "io/config.h"
-#include "io/frame_source.h"
+#include "io/config/config.h"
+#include "io/sources/frame_source.h"
 
 #include <Eigen/Core>
 

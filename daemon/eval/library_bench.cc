@@ -6,7 +6,7 @@
 #include "core/model.h"
 #include "daemon/eval/evaluation.h"
 #include "daemon/eval/other_captures.h"
-#include "io/config.h"
+#include "io/config/config.h"
 
 #include <algorithm>
 #include <chrono>

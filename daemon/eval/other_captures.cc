@@ -4,7 +4,7 @@
 #include "core/model.h"
 #include "core/recognition.h"
 #include "core/sim/rerender.h"
-#include "io/cloud_io.h"
+#include "io/formats/cloud_io.h"
 
 #include <algorithm>
 #include <iomanip>

@@ -8,7 +8,7 @@
 #include "core/parallel.h"
 #include "core/types.h"
 #include "core/view_alignment.h"
-#include "io/config.h"
+#include "io/config/config.h"
 
 #include <Eigen/Core>
 

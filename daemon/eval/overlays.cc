@@ -1,7 +1,7 @@
 #include "daemon/eval/overlays.h"
 
 #include "core/eval/evaluation.h"
-#include "io/images.h"
+#include "io/formats/images.h"
 
 #include <cctype>
 #include <sstream>

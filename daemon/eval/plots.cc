@@ -1,6 +1,6 @@
 #include "daemon/eval/plots.h"
 
-#include "io/output_file.h"
+#include "io/formats/output_file.h"
 
 #include <algorithm>
 #include <cstdlib>

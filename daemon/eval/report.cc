@@ -1,6 +1,6 @@
 #include "daemon/eval/report.h"
 
-#include "io/output_file.h"
+#include "io/formats/output_file.h"
 
 #include <algorithm>
 #include <fstream>

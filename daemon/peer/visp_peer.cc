@@ -5,10 +5,10 @@
 #include "core/eval/pose_scoring.h"
 #include "daemon/args.h"
 #include "daemon/exit_codes.h"
-#include "io/frame_source.h"
-#include "io/json.h"
-#include "io/mesh_io.h"
-#include "io/truth_file.h"
+#include "io/base/json.h"
+#include "io/formats/mesh_io.h"
+#include "io/formats/truth_file.h"
+#include "io/sources/frame_source.h"
 
 #include <visp3/core/vpCameraParameters.h>
 #include <visp3/core/vpHomogeneousMatrix.h>

@@ -4,10 +4,10 @@
 #include <mcap/writer.hpp>
 
 #include "core/fail.h"
-#include "io/lcm_decode.h"
-#include "io/lcm_log.h"
-#include "io/log.h"
-#include "io/preview.h"
+#include "io/base/log.h"
+#include "io/lcm/lcm_decode.h"
+#include "io/lcm/lcm_log.h"
+#include "io/lcm/preview.h"
 #include "io/ros2/mcap_log.h"
 #include "io/ros2/ros2_messages.h"
 

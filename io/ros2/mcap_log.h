@@ -5,7 +5,7 @@
 // renamed when closed whole.
 #pragma once
 
-#include "io/bus.h"
+#include "io/lcm/bus.h"
 #include "io/ros2/ros2.h"
 
 #include <cstdint>

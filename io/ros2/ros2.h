@@ -1,13 +1,13 @@
 // saccaded's messages on ROS 2's wire (docs/ROS2.md): DDS topics named and typed as a ROS 2
 // node's (`rt/saccade/detections` of `vision_msgs::msg::dds_::Detection3DArray_`, ...), written
 // through Eclipse Cyclone DDS, one of ROS 2's middlewares, with no ROS installed. Each message
-// mirrors the LCM message LcmBus sends for the same frame (io/bus.h, MessageMirror). Commands
+// mirrors the LCM message LcmBus sends for the same frame (io/lcm/bus.h, MessageMirror). Commands
 // stay on LCM, signed (docs/LCM.md). This header needs no DDS: a build without Cyclone DDS
 // has Ros2Built() false and OpenRos2Mirror fails saying so.
 #pragma once
 
 #include "core/schema.h"
-#include "io/bus.h"
+#include "io/lcm/bus.h"
 
 #include <memory>
 #include <string>

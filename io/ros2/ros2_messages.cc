@@ -1,6 +1,6 @@
 #include "io/ros2/ros2_messages.h"
 
-#include "io/preview.h"
+#include "io/lcm/preview.h"
 
 #include <dds/ddsi/ddsi_cdrstream.h>
 #include <saccade/detections_t.hpp>

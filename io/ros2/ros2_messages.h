@@ -3,7 +3,7 @@
 // (it includes Cyclone DDS and the generated types).
 #pragma once
 
-#include "io/bus.h"
+#include "io/lcm/bus.h"
 #include "io/ros2/ros2.h"
 
 #include <dds/dds.h>

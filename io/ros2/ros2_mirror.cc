@@ -1,7 +1,7 @@
 // The ROS 2 mirror: Cyclone DDS's writers of the topics of docs/ROS2.md.
 #include "core/fail.h"
-#include "io/log.h"
-#include "io/preview.h"
+#include "io/base/log.h"
+#include "io/lcm/preview.h"
 #include "io/ros2/ros2.h"
 #include "io/ros2/ros2_messages.h"
 

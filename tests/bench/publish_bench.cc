@@ -3,7 +3,7 @@
 // a ROS 2 reader of every topic in this process, as a node on the same host would be). Both
 // in the same run, so that their ratio holds on a busy machine. A benchmark, not a test.
 #include "core/types.h"
-#include "io/bus.h"
+#include "io/lcm/bus.h"
 #include "io/ros2/ros2.h"
 
 #include <benchmark/benchmark.h>

@@ -12,7 +12,7 @@
 set -euo pipefail
 build=$(cd "$1" && pwd)
 source_dir=$(cd "$2" && pwd)
-clients=$build/io/clients
+clients=$build/io/lcm/clients
 work=$(mktemp -d)
 url="udpm://239.255.76.67:$((7500 + $$ % 150))?ttl=0"  # not 7667, LCM's and saccaded's default
 pids=()

@@ -4,7 +4,7 @@
 
 #include "core/features.h"
 #include "core/types.h"
-#include "io/cloud_io.h"
+#include "io/formats/cloud_io.h"
 #include "support/test_data.h"
 
 #include <gtest/gtest.h>

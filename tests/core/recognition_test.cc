@@ -3,7 +3,7 @@
 // hand-made inputs are in grouping_test, model_test, shot_test and neighbor_search_test.
 #include "core/recognition.h"
 #include "core/eval/reference_pipeline.h"
-#include "io/cloud_io.h"
+#include "io/formats/cloud_io.h"
 #include "support/test_data.h"
 
 #include <gtest/gtest.h>

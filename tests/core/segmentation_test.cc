@@ -3,7 +3,7 @@
 #include "core/segmentation.h"
 #include "core/features.h"
 #include "core/recognition.h"
-#include "io/cloud_io.h"
+#include "io/formats/cloud_io.h"
 #include "support/mosd_truth.h"
 #include "support/test_data.h"
 

@@ -1,6 +1,7 @@
 // End-to-end tests of the `saccade` binary: bad input gives one line and the right exit code.
 #include "core/segmentation.h"
-#include "io/cloud_io.h"
+#include "io/formats/cloud_io.h"
+#include "io/sources/model_source.h"
 #include "support/mosd_truth.h"
 #include "support/small_disk.h"
 #include "support/test_data.h"
@@ -515,7 +516,8 @@ TEST(Cli, RecognizeRendersTheSceneWithItsInstancesAsAPng) {
   const CliRun r = Saccade(recognize + png);
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("1 instance(s)"), std::string::npos) << r.out;
-  // The PNG signature, then IHDR: width and height (big-endian), bit depth 8, colour type 2 (RGB).
+  // The PNG signature, then IHDR: width and height (big-endian), bit depth 8, colour type 2
+  // (RGB).
   std::ifstream f(png, std::ios::binary);
   std::array<unsigned char, 26> head{};
   ASSERT_TRUE(f.read(reinterpret_cast<char*>(head.data()), head.size())) << png;
@@ -1103,9 +1105,10 @@ TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
       EXPECT_FALSE(std::filesystem::exists(out + "/overlays/" + name + "-" + config + ".png"));
 }
 
-// Tracking scored against a pose table recorded by others: the ViSP cube (../shared/data/visp_rbt),
-// its model cut from the first frame as a user would, from a cold start, every frame processed
-// (a rate so low that none is dropped, so the counts do not depend on this machine's speed).
+// Tracking scored against a pose table recorded by others: the ViSP cube
+// (../shared/data/visp_rbt), its model cut from the first frame as a user would, from a cold
+// start, every frame processed (a rate so low that none is dropped, so the counts do not depend
+// on this machine's speed).
 TEST(Cli, BenchTrackScoresTheVispCubeAgainstItsTruthTable) {
   SACCADE_REQUIRE_DATA("visp_rbt/truth_cube.csv");
   const std::string dir = ::testing::TempDir() + "visp_bench";
@@ -1201,7 +1204,8 @@ TEST(Cli, EvalCrossCaptureBenchmarkSubsetFindsWhatTheWholeSetRunFound) {
   const CliRun r = Saccade(
       "eval --cases " + saccade::testing::DataPath("mosd_xcap/cases_with_pose.yaml") + " --data " +
       saccade::testing::DataPath("") + " --configs " + configs + " --out " + out +
-      " --no-plots --protocols a,b --only beige_bowl-test63-in-test62,beige_bowl-test62-in-test63,"
+      " --no-plots --protocols a,b --only "
+      "beige_bowl-test63-in-test62,beige_bowl-test62-in-test63,"
       "cocoa_carton-test62-in-test63,cocoa_carton-test63-in-test62,handle_mug-test62-in-test63,"
       "coffee_can-test36-in-test38,coffee_can-test38-in-test36,print_mug-test32-in-test34");
   ASSERT_EQ(r.code, 0) << r.out;

@@ -1,9 +1,9 @@
 // saccaded end to end: the real binary, real LCM over UDP multicast on this host (ttl=0), and
 // Debian's lcm-logger as the subscriber whose log the assertions read.
 #include "core/sim/scenario.h"
-#include "io/cloud_io.h"
-#include "io/command_key.h"
-#include "io/config.h"
+#include "io/config/config.h"
+#include "io/formats/cloud_io.h"
+#include "io/lcm/command_key.h"
 #include "support/processes.h"
 #include "support/small_disk.h"
 

@@ -1,7 +1,7 @@
 // The shipped configuration files load strictly and say what they claim.
 #include "daemon/settings.h"
 
-#include "io/config.h"
+#include "io/config/config.h"
 
 #include <gtest/gtest.h>
 

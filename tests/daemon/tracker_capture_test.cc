@@ -3,9 +3,10 @@
 // through the whole pipeline, against the sequence's exact truth.
 #include "core/recognition.h"
 #include "daemon/tracker.h"
-#include "io/cloud_io.h"
-#include "io/frame_source.h"
-#include "io/memory_bus.h"
+#include "io/formats/cloud_io.h"
+#include "io/lcm/memory_bus.h"
+#include "io/sources/frame_source.h"
+#include "io/sources/model_source.h"
 #include "support/test_data.h"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // its control thread. saccaded_test.cc runs the same tracker as a process over real LCM.
 #include "daemon/tracker.h"
 
-#include "io/memory_bus.h"
+#include "io/lcm/memory_bus.h"
 
 #include <gtest/gtest.h>
 

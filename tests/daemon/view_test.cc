@@ -1,10 +1,10 @@
 // saccade view end to end: the real viewer and saccaded over real LCM (UDP multicast on this
 // host), Debian's lcm-logger as the reference for what was published, and Debian's chromium,
 // headless, as the browser whose screenshot is checked pixel by pixel.
-#include "io/detections_log.h"
-#include "io/json.h"
-#include "io/lcm_log.h"
-#include "io/viewer.h"
+#include "io/base/json.h"
+#include "io/lcm/detections_log.h"
+#include "io/lcm/lcm_log.h"
+#include "io/viewer/viewer.h"
 #include "support/processes.h"
 
 #include <gtest/gtest.h>

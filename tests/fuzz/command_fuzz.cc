@@ -1,9 +1,9 @@
 // libFuzzer target: the decoders of what arrives over LCM, on arbitrary bytes: the command
-// decoder (DecodeCommand in io/bus.h, what the command channel delivers to the daemon), and
-// the fixation and detections decoders the log converters use (io/fixation_log.h,
-// io/detections_log.h), and the viewer's state fed the bytes on each of its channels
-// (io/viewer.h: detections, fixation, status and preview, io/preview.h). Each must return a
-// message or refuse, never crash.
+// decoder (DecodeCommand in io/lcm/bus.h, what the command channel delivers to the daemon), and
+// the fixation and detections decoders the log converters use (io/lcm/fixation_log.h,
+// io/lcm/detections_log.h), and the viewer's state fed the bytes on each of its channels
+// (io/viewer/viewer.h: detections, fixation, status and preview, io/lcm/preview.h). Each must
+// return a message or refuse, never crash.
 //
 // Then what the daemon does with a command that decoded (Tracker::Impl::OnCommand in
 // daemon/tracker.cc, and AttendStage::Process in daemon/stages.cc, whose few lines applying a
@@ -18,11 +18,11 @@
 // allowed model is the PCD loader's (the `pcd` target) and is not done here.
 #include "attention/attention.h"
 #include "core/foveation.h"
-#include "io/bus.h"
-#include "io/command_key.h"
-#include "io/detections_log.h"
-#include "io/fixation_log.h"
-#include "io/viewer.h"
+#include "io/lcm/bus.h"
+#include "io/lcm/command_key.h"
+#include "io/lcm/detections_log.h"
+#include "io/lcm/fixation_log.h"
+#include "io/viewer/viewer.h"
 
 #include <sys/stat.h>
 #include <cstddef>

@@ -4,10 +4,10 @@
 // camera file, a truth file, an lcm-logger log of fixations); the rest is the file. Each must
 // load or refuse with one line.
 #include "daemon/settings.h"
-#include "io/config.h"
-#include "io/fixation_log.h"
-#include "io/images.h"
-#include "io/truth_file.h"
+#include "io/config/config.h"
+#include "io/formats/images.h"
+#include "io/formats/truth_file.h"
+#include "io/lcm/fixation_log.h"
 #include "tests/fuzz/fuzz_file.h"
 
 #include <cstddef>

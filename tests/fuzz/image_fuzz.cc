@@ -1,7 +1,7 @@
 // libFuzzer target: the depth and colour image readers on arbitrary bytes, as a PNG or as a
 // TIFF (the first byte picks which, and whether depth or colour is read). Each must read the
 // image or refuse it with one line, and never allocate what a lying header claims.
-#include "io/images.h"
+#include "io/formats/images.h"
 #include "tests/fuzz/fuzz_file.h"
 
 #include <cstddef>

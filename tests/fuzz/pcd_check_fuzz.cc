@@ -1,6 +1,6 @@
-// libFuzzer target: the PCD check (io/pcd_check.h) on arbitrary bytes. It must return, true or
-// false with one line, and never read or write out of bounds (build with ASan and UBSan).
-#include "io/pcd_check.h"
+// libFuzzer target: the PCD check (io/formats/pcd_check.h) on arbitrary bytes. It must return, true
+// or false with one line, and never read or write out of bounds (build with ASan and UBSan).
+#include "io/formats/pcd_check.h"
 
 #include <cstddef>
 #include <cstdint>

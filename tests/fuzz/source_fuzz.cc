@@ -2,7 +2,7 @@
 // and, unless it names a device (openni2://, freenect://, which would wait for one), opened:
 // every option is checked there, and a path that is not there must be one line. A spec that
 // opens is closed again without reading a frame.
-#include "io/frame_source.h"
+#include "io/sources/frame_source.h"
 #include "tests/fuzz/fuzz_file.h"
 
 #include <cstddef>

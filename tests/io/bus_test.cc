@@ -1,7 +1,7 @@
 // The LCM bus over a real UDP multicast socket on this host: what goes out is what the types
 // say (frames, units, the robot transform), and commands come in checked and converted.
-#include "io/bus.h"
-#include "io/frame_source.h"
+#include "io/lcm/bus.h"
+#include "io/sources/frame_source.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -6,8 +6,8 @@
 #include "core/model.h"
 #include "core/sim/rerender.h"
 #include "core/tracking.h"
-#include "io/cloud_io.h"
-#include "io/frame_source.h"
+#include "io/formats/cloud_io.h"
+#include "io/sources/frame_source.h"
 #include "support/test_data.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // Signed commands without a daemon: the HMAC against another implementation's answer, the key
 // file's rules, the gate's verdicts (unsigned, wrong key, changed, stale, replayed), and which
 // mode `lcm.commands: auto` comes to.
-#include "io/command_key.h"
-#include "io/bus.h"
+#include "io/lcm/command_key.h"
+#include "io/lcm/bus.h"
 
 #include <saccade/command_t.hpp>
 

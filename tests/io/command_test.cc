@@ -1,7 +1,7 @@
 // The command decoder and the model-path policy, without a daemon: every malformed message of a
 // corpus is refused with one line, well-formed ones decode to what was sent.
-#include "io/bus.h"
-#include "io/log.h"
+#include "io/base/log.h"
+#include "io/lcm/bus.h"
 
 #include <saccade/command_t.hpp>
 

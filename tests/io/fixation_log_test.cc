@@ -1,8 +1,8 @@
 // The fixation log reader: lcm-logger files checked header-first and read with every length
 // checked against the file, and fixation_t messages checked before lcm-gen's decoder (which
 // copies (size_t)-1 bytes for a string length of 0 or below).
-#include "io/fixation_log.h"
-#include "io/detections_log.h"
+#include "io/lcm/fixation_log.h"
+#include "io/lcm/detections_log.h"
 
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>

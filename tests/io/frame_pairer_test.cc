@@ -1,5 +1,5 @@
-// Depth and colour frames paired by timestamp (io/frame_pairer.h), with frames as numbers.
-#include "io/frame_pairer.h"
+// Depth and colour frames paired by timestamp (io/sources/frame_pairer.h), with frames as numbers.
+#include "io/sources/frame_pairer.h"
 
 #include <gtest/gtest.h>
 

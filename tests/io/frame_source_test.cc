@@ -1,12 +1,12 @@
 // Frame sources: spec parsing, the synthetic scenarios and their ground truth, PCD and depth
 // sequences written by FrameWriter and read back, the live mailbox, and bad input.
-#include "io/frame_source.h"
+#include "io/sources/frame_source.h"
 #include "core/sim/scenario.h"
 
-#include "io/cloud_io.h"
-#include "io/frame_writer.h"
-#include "io/images.h"
-#include "io/mailbox.h"
+#include "io/formats/cloud_io.h"
+#include "io/formats/frame_writer.h"
+#include "io/formats/images.h"
+#include "io/sources/mailbox.h"
 #include "support/test_data.h"
 
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
 // synthetic Kinect come back frame by frame, in order, with their timestamps, their depth
 // through the Kinect's raw disparity and its registration to colour, their colour exact.
 // fakenect reads one dump per process (ctest runs each test in its own).
-#include "io/fakenect_dump.h"
-#include "io/frame_source.h"
+#include "io/formats/fakenect_dump.h"
+#include "io/sources/frame_source.h"
 
 #include <gtest/gtest.h>
 
@@ -122,8 +122,8 @@ TEST_F(FreenectTest, ACorruptDumpIsAOneLineErrorNamingTheFile) {
       << error;
 }
 
-// A dump cut short, as a recording on a disk that filled leaves it (io/fakenect_dump.cc: a file
-// is listed once it is whole, so the last frame may have its depth without its colour): its
+// A dump cut short, as a recording on a disk that filled leaves it (io/formats/fakenect_dump.cc: a
+// file is listed once it is whole, so the last frame may have its depth without its colour): its
 // whole frames come back in order, then it ends; no error, nothing made up.
 TEST_F(FreenectTest, ADumpCutShortReplaysItsWholeFramesThenEnds) {
   std::vector<std::string> lines;

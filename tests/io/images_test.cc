@@ -1,5 +1,5 @@
 // Depth and colour images and the intrinsics file: round trips and one-line errors.
-#include "io/images.h"
+#include "io/formats/images.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Reading meshes: an OBJ with its materials' colours, binary and ASCII STL, millimetres, and the
 // one-line errors for a file that is not a mesh Saccade reads.
-#include "io/mesh_io.h"
+#include "io/formats/mesh_io.h"
 
-#include "io/cloud_io.h"
+#include "io/formats/cloud_io.h"
 
 #include <gtest/gtest.h>
 

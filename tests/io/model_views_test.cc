@@ -1,5 +1,6 @@
 // A model of several views written as one PCD and read back as its views.
-#include "io/cloud_io.h"
+#include "io/formats/cloud_io.h"
+#include "io/sources/model_source.h"
 
 #include <gtest/gtest.h>
 

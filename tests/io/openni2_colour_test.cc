@@ -3,10 +3,10 @@
 // (a 2 cm 3D checker of eight colours). A colour that lands on the right point is the colour
 // of that point's cell; colour taken pixel for pixel from the other camera is not.
 #include "core/registration.h"
-#include "io/frame_source.h"
-#include "io/frame_writer.h"
-#include "io/images.h"
-#include "io/openni2_source.h"
+#include "io/formats/frame_writer.h"
+#include "io/formats/images.h"
+#include "io/sources/frame_source.h"
+#include "io/sources/openni2_source.h"
 #include "support/depth_folder.h"
 
 #include <gtest/gtest.h>

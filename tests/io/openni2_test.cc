@@ -1,10 +1,10 @@
 // OpenNI2 through the real libOpenNI2 with no sensor: the project's virtual device serves
 // synthetic depth images as a live camera; openni::Recorder writes an .oni, and Debian's .oni
 // driver plays it back. Every frame is checked against the image it came from.
-#include "io/frame_source.h"
-#include "io/frame_writer.h"
-#include "io/images.h"
-#include "io/openni2_source.h"
+#include "io/formats/frame_writer.h"
+#include "io/formats/images.h"
+#include "io/sources/frame_source.h"
+#include "io/sources/openni2_source.h"
 #include "support/depth_folder.h"
 #include "support/processes.h"
 

@@ -1,8 +1,8 @@
 // The PCD check in front of PCL's reader: every real PCD of ../shared/data passes, and each
 // bad file of a corpus (not PCD at all, lying headers, truncated or corrupt data, types
 // Saccade cannot represent) is refused with one line naming the file, before PCL sees it.
-#include "io/pcd_check.h"
-#include "io/cloud_io.h"
+#include "io/formats/pcd_check.h"
+#include "io/formats/cloud_io.h"
 #include "support/test_data.h"
 
 #include <gtest/gtest.h>

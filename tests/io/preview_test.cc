@@ -1,8 +1,8 @@
-// The preview (core/preview.h) and its wire form (io/preview.h): what a viewer gets back is what
-// was made, it fits max_bytes, and a malformed message is refused, never trusted.
+// The preview (core/preview.h) and its wire form (io/lcm/preview.h): what a viewer gets back is
+// what was made, it fits max_bytes, and a malformed message is refused, never trusted.
 #include "core/preview.h"
 #include "core/foveation.h"
-#include "io/preview.h"
+#include "io/lcm/preview.h"
 
 #include <gtest/gtest.h>
 

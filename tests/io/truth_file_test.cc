@@ -1,6 +1,6 @@
-// Pose tables recorded by others (io/truth_file.h): the rows a sequence's truth gives, and one
-// line naming what is wrong with a bad one.
-#include "io/truth_file.h"
+// Pose tables recorded by others (io/formats/truth_file.h): the rows a sequence's truth gives, and
+// one line naming what is wrong with a bad one.
+#include "io/formats/truth_file.h"
 
 #include <gtest/gtest.h>
 

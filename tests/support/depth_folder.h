@@ -2,8 +2,8 @@
 // --format depth` writes), for the virtual OpenNI2 device to serve.
 #pragma once
 
-#include "io/frame_source.h"
-#include "io/frame_writer.h"
+#include "io/formats/frame_writer.h"
+#include "io/sources/frame_source.h"
 
 #include <gtest/gtest.h>
 

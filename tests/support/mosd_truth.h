@@ -2,7 +2,7 @@
 // ../shared/data/mosd_xcap/cases_with_pose.yaml (row-major, model capture to scene capture).
 #pragma once
 
-#include "io/cloud_io.h"
+#include "io/formats/cloud_io.h"
 
 #include <Eigen/Core>
 
