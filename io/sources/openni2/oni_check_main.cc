@@ -2,7 +2,7 @@
 // its own. Debian's .oni driver (libOniFile) trusts what a file says: a crafted string length
 // or property record, or a corrupt frame for its codecs, crashes it, and with it the program
 // that opened the file. Saccade runs this first and opens a recording itself only when this
-// played every frame of it (io/sources/openni2_source.cc, CheckOniRecording).
+// played every frame of it (io/sources/openni2_recording.cc, CheckOniRecording).
 //
 // Exit 0: every depth frame was played. 1: libOpenNI2 refused the file (one line on stderr).
 // Killed by a signal: libOpenNI2 crashed on it. The caller bounds the time it may take.
@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     Refuse(path, "no depth stream");
   const int frames = control->getNumberOfFrames(depth);
   if (frames <= 0) Refuse(path, "the recording has no depth frame");
-  // Manual playback, as `?mode=step` plays (io/sources/openni2_source.cc, PlaybackSource): each
+  // Manual playback, as `?mode=step` plays (io/sources/openni2_recording.cc, PlaybackSource): each
   // wait makes the player read and decode the file's next frame, of either stream. Repeating, so
   // the whole file has been played once the depth frame numbers go back after `frames` reads.
   // The numbers are the file's own: a file whose numbers never go back is refused after twice
