@@ -179,11 +179,225 @@ Detection TrackSet::Publish(const Track& t, const std::vector<TrackModel>& model
   return d;
 }
 
-std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
-                                        const std::vector<TrackModel>& models,
-                                        const std::vector<Detection>& recognized,
-                                        std::string* events) {
-  if (!options_.enabled) return recognized;
+// One frame's recognized instances matched to the tracks: TrackSet::Update's three steps.
+class TrackSet::Matching {
+ public:
+  Matching(TrackSet* set, const TrackFrame& frame, const std::vector<TrackModel>& models,
+           const std::vector<Detection>& recognized, std::string* events)
+      : set_(*set),
+        frame_(frame),
+        models_(models),
+        recognized_(recognized),
+        events_(events),
+        order_(recognized.size()),
+        taken_(set->tracks_.size(), false),
+        ambiguous_(set->tracks_.size(), false),
+        used_(recognized.size(), false) {
+    // Recognition's instances, most confident first, each to one track at most.
+    std::iota(order_.begin(), order_.end(), std::size_t{0});
+    std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
+      return recognized[a].confidence > recognized[b].confidence;
+    });
+  }
+
+  // 1. Instances that agree with a held track confirm it.
+  void ConfirmHeld() {
+    for (std::size_t k : order_) {
+      const Detection& d = recognized_[k];
+      for (std::size_t i = 0; i < tracks().size() && !used_[k]; ++i) {
+        Track& t = tracks()[i];
+        if (t.model != d.model || taken_[i] || Distance(t, d) > options().same_track_m) continue;
+        if (t.state == TrackState::kTracking) {
+          taken_[i] = used_[k] = true;
+          t.frames_since_check = 0;
+          t.unconfirmed = 0;
+        } else if (t.state == TrackState::kLost) {  // lost this frame, yet recognized here
+          Reacquire(i, d, "re-acquired by recognition");
+          used_[k] = true;
+        }
+      }
+    }
+  }
+
+  // 2. The others. Where another model's track stands, the instance is that object seen as
+  // a look-alike: not tracked. Else a track of its model that is lost, the nearest first (far
+  // from its last held pose only a confident instance moves it: MayMove). Else a held track
+  // recognition looked at and did not find: a confident instance puts it back (it slid off
+  // its object); a less confident one near it is its object at a worse pose (a can turned
+  // about its axis), which neither confirms the track nor counts against it. Else a new track.
+  void PlaceTheOthers() {
+    for (std::size_t k : order_) {
+      if (used_[k]) continue;
+      const Detection& d = recognized_[k];
+      if (Occupied(d)) {
+        untracked.push_back(d);  // published as recognition found it, not tracked (state NONE)
+        continue;
+      }
+      if (TakenByLostTrack(k) || TakenByHeldTrack(k)) continue;
+      StartTrack(k);
+    }
+  }
+
+  // 3. Held tracks recognition looked at (inside where it searched: a track outside stays
+  // due, and is re-checked when the fovea visits it) and did not find.
+  void MissTheUnfound() {
+    for (std::size_t i = 0; i < tracks().size(); ++i) {
+      Track& t = tracks()[i];
+      if (!set_.Held(t) || taken_[i] || !InsideSearch(t)) continue;
+      t.frames_since_check = 0;
+      if (ambiguous_[i]) continue;
+      if (++t.unconfirmed >= options().unconfirmed_rechecks) {
+        t.state = TrackState::kLost;
+        t.lost_seq = frame_.seq;
+        Say(events_, "track " + std::to_string(t.id) + " lost (not confirmed by " +
+                         std::to_string(t.unconfirmed) + " re-checks)");
+      }
+    }
+  }
+
+  std::vector<Detection> untracked;  // instances no track took, published as they were found
+
+ private:
+  std::vector<Track>& tracks() { return set_.tracks_; }
+  const TrackingOptions& options() const { return set_.options_; }
+
+  float Distance(const Track& t, const Detection& d) const {
+    return (CentroidOf(t.pose, models_[std::size_t(t.model)].centroid) - d.centroid_m).norm();
+  }
+  // Whether the frame's recognition looked where track `t` stands.
+  bool InsideSearch(const Track& t) const {
+    if (frame_.sweep) return false;  // a sweep's window need not hold the tracks
+    const std::vector<bool>& ran = frame_.recognized_models;
+    if (std::size_t(t.model) < ran.size() && !ran[std::size_t(t.model)]) return false;
+    if (frame_.searched_half_m < 0) return true;
+    const Eigen::Vector3f c = CentroidOf(t.pose, models_[std::size_t(t.model)].centroid);
+    return ((c - frame_.searched_centre_m).array().abs() <= frame_.searched_half_m).all();
+  }
+  // Whether instance `d` may re-acquire the lost track `t`: near its last held pose, or as
+  // confident as a second track must be.
+  bool MayMove(const Track& t, const Detection& d) const {
+    return Distance(t, d) <= options().reacquire_radius_m ||
+           d.confidence >= options().min_extra_track_confidence;
+  }
+  // Whether another model's held track stands where `d` is.
+  bool Occupied(const Detection& d) const {
+    return std::any_of(set_.tracks_.begin(), set_.tracks_.end(), [&](const Track& t) {
+      return t.model != d.model && set_.Held(t) && Distance(t, d) <= options().same_track_m;
+    });
+  }
+
+  // Instance k to the nearest lost track of its model that it may move.
+  bool TakenByLostTrack(std::size_t k) {
+    const Detection& d = recognized_[k];
+    std::size_t best = tracks().size();
+    for (std::size_t i = 0; i < tracks().size(); ++i) {
+      const Track& t = tracks()[i];
+      if (t.model != d.model || taken_[i] || set_.Held(t) || !MayMove(t, d)) continue;
+      if (best == tracks().size() || Distance(t, d) < Distance(tracks()[best], d)) best = i;
+    }
+    if (best == tracks().size()) return false;
+    Reacquire(best, d, "re-acquired by recognition");
+    used_[k] = true;
+    return true;
+  }
+
+  // Instance k, confident, puts back a held track of its model that recognition did not find;
+  // less confident and near one, it leaves that track neither confirmed nor missed.
+  bool TakenByHeldTrack(std::size_t k) {
+    const Detection& d = recognized_[k];
+    for (std::size_t i = 0; i < tracks().size() && !used_[k]; ++i) {
+      const Track& t = tracks()[i];
+      if (t.model != d.model || taken_[i] || !set_.Held(t) || !InsideSearch(t)) continue;
+      if (d.confidence >= options().min_extra_track_confidence) {
+        char why[96];
+        std::snprintf(why, sizeof why, "put back by recognition (%.1f cm off)",
+                      100.0f * Distance(t, d));
+        Reacquire(i, d, why);
+        used_[k] = true;
+      } else if (Distance(t, d) <= options().reacquire_radius_m) {
+        ambiguous_[i] = true;
+      }
+    }
+    return used_[k];
+  }
+
+  // Instance k as a new track, when it is confident enough and there is room; else untracked.
+  void StartTrack(std::size_t k) {
+    const Detection& d = recognized_[k];
+    const bool model_tracked = std::any_of(tracks().begin(), tracks().end(),
+                                           [&](const Track& o) { return o.model == d.model; });
+    const float bar = model_tracked     ? options().min_extra_track_confidence
+                      : frame_.attended ? 0.0f
+                                        : options().min_track_confidence;
+    if (static_cast<int>(tracks().size()) >= options().max_tracks || d.confidence < bar) {
+      untracked.push_back(d);  // published as recognition found it, not tracked (state NONE)
+      return;
+    }
+    Track t;
+    t.id = set_.next_id_++;
+    t.model = d.model;
+    tracks().push_back(t);
+    taken_.push_back(false);
+    ambiguous_.push_back(false);
+    char found[64];
+    std::snprintf(found, sizeof found, "found (confidence %.2f%s)", d.confidence,
+                  frame_.attended ? ", the best of a search" : "");
+    Reacquire(tracks().size() - 1, d, found);
+    used_[k] = true;
+  }
+
+  // Takes instance `d` for track i: a held track it agrees with keeps its refined pose; any
+  // other starts again from recognition's pose, refined on this frame when the frame holds it.
+  void Reacquire(std::size_t i, const Detection& d, const char* why) {
+    Track& t = tracks()[i];
+    taken_[i] = true;
+    const int lost_for = t.lost_seq >= 0 ? static_cast<int>(frame_.seq - t.lost_seq) : 0;
+    // Held until this frame (lost on it) and found again near: the motion from its last pose
+    // to recognition's is the prediction's (a fast object outruns a track that starts still).
+    const bool was_held = t.lost_seq == frame_.seq;  // a new track's is -1
+    const Eigen::Matrix4f last = t.pose;
+    const double last_s = t.time_s;
+    t.state = TrackState::kReacquired;
+    // Tentative: re-checked on the next frame, where one miss loses it.
+    t.frames_since_check = options().recheck_every;
+    t.unconfirmed = options().unconfirmed_rechecks - 1;
+    t.lost_seq = -1;
+    t.found = d;
+    t.fitness = d.fitness;
+    t.coverage = d.coverage;
+    t.pose = d.model_to_scene;
+    const TrackModel& model = models_[std::size_t(t.model)];
+    if (FrameUsable(frame_)) {
+      const TrackResult r =
+          TrackPose(*model.points, *frame_.cloud, frame_.intrinsics, t.pose, options().refine);
+      if (r.tracking) t.pose = r.model_to_camera;
+    }
+    t.time_s = frame_.time_s;
+    t.motion = Eigen::Matrix4f::Identity();
+    t.motion_dt_s = 0;
+    const float moved =
+        (CentroidOf(t.pose, model.centroid) - CentroidOf(last, model.centroid)).norm();
+    if (was_held && frame_.time_s > last_s && moved <= options().reacquire_radius_m) {
+      t.motion = t.pose * last.inverse();
+      t.motion_dt_s = frame_.time_s - last_s;
+    }
+    std::string what = "track " + std::to_string(t.id) + " " + why;
+    if (lost_for > 0) what += " after " + std::to_string(lost_for) + " frames";
+    Say(events_, what);
+  }
+
+  TrackSet& set_;
+  const TrackFrame& frame_;
+  const std::vector<TrackModel>& models_;
+  const std::vector<Detection>& recognized_;
+  std::string* events_;
+  std::vector<std::size_t> order_;  // recognized_'s indices, most confident first
+  std::vector<bool> taken_;         // per track: an instance of this frame took it
+  std::vector<bool> ambiguous_;     // per track: a weaker instance near it (step 2)
+  std::vector<bool> used_;          // per instance: a track took it
+};
+
+void TrackSet::ForgetLongSearches(std::int64_t seq, std::string* events) {
   // Lost last frame: searching now; searched too long: forgotten.
   for (Track& t : tracks_)
     if (t.state == TrackState::kLost) t.state = TrackState::kSearching;
@@ -191,189 +405,44 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
                                [&](const Track& t) {
                                  const bool forget =
                                      t.state == TrackState::kSearching &&
-                                     frame.seq - t.lost_seq >= options_.forget_after_frames;
+                                     seq - t.lost_seq >= options_.forget_after_frames;
                                  if (forget)
                                    Say(events, "track " + std::to_string(t.id) + " forgotten");
                                  return forget;
                                }),
                 tracks_.end());
-  for (Track& t : tracks_)
-    if (Held(t)) Refine(frame, models, &t, events);
-  if (frame.sweep) ++sweeps_;
+}
 
-  std::vector<Detection> out;
-  if (frame.recognized) {
-    // Recognition's instances, most confident first, each to one track at most.
-    std::vector<std::size_t> order(recognized.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return recognized[a].confidence > recognized[b].confidence;
-    });
-    std::vector<bool> taken(tracks_.size(), false);
-    const auto inside_search = [&](const Track& t) {
-      if (frame.sweep) return false;  // a sweep's window need not hold the tracks
-      const std::vector<bool>& ran = frame.recognized_models;
-      if (std::size_t(t.model) < ran.size() && !ran[std::size_t(t.model)]) return false;
-      if (frame.searched_half_m < 0) return true;
-      const Eigen::Vector3f c = CentroidOf(t.pose, models[std::size_t(t.model)].centroid);
-      return ((c - frame.searched_centre_m).array().abs() <= frame.searched_half_m).all();
-    };
-    const auto distance = [&](const Track& t, const Detection& d) {
-      return (CentroidOf(t.pose, models[std::size_t(t.model)].centroid) - d.centroid_m).norm();
-    };
-    // Whether instance `d` may re-acquire the lost track `t`: near its last held pose, or as
-    // confident as a second track must be.
-    const auto may_move = [&](const Track& t, const Detection& d) {
-      return distance(t, d) <= options_.reacquire_radius_m ||
-             d.confidence >= options_.min_extra_track_confidence;
-    };
-    // Takes instance `d` for track i: a held track it agrees with keeps its refined pose; any
-    // other starts again from recognition's pose, refined on this frame when the frame holds it.
-    const auto reacquire = [&](std::size_t i, const Detection& d, const char* why) {
-      Track& t = tracks_[i];
-      taken[i] = true;
-      const int lost_for = t.lost_seq >= 0 ? static_cast<int>(frame.seq - t.lost_seq) : 0;
-      // Held until this frame (lost on it) and found again near: the motion from its last pose
-      // to recognition's is the prediction's (a fast object outruns a track that starts still).
-      const bool was_held = t.lost_seq == frame.seq;  // a new track's is -1
-      const Eigen::Matrix4f last = t.pose;
-      const double last_s = t.time_s;
-      t.state = TrackState::kReacquired;
-      // Tentative: re-checked on the next frame, where one miss loses it.
-      t.frames_since_check = options_.recheck_every;
-      t.unconfirmed = options_.unconfirmed_rechecks - 1;
-      t.lost_seq = -1;
-      t.found = d;
-      t.fitness = d.fitness;
-      t.coverage = d.coverage;
-      t.pose = d.model_to_scene;
-      if (FrameUsable(frame)) {
-        const TrackResult r = TrackPose(*models[std::size_t(t.model)].points, *frame.cloud,
-                                        frame.intrinsics, t.pose, options_.refine);
-        if (r.tracking) t.pose = r.model_to_camera;
-      }
-      t.time_s = frame.time_s;
-      t.motion = Eigen::Matrix4f::Identity();
-      t.motion_dt_s = 0;
-      const float moved = (CentroidOf(t.pose, models[std::size_t(t.model)].centroid) -
-                           CentroidOf(last, models[std::size_t(t.model)].centroid))
-                              .norm();
-      if (was_held && frame.time_s > last_s && moved <= options_.reacquire_radius_m) {
-        t.motion = t.pose * last.inverse();
-        t.motion_dt_s = frame.time_s - last_s;
-      }
-      std::string what = "track " + std::to_string(t.id) + " " + why;
-      if (lost_for > 0) what += " after " + std::to_string(lost_for) + " frames";
-      Say(events, what);
-    };
-
-    std::vector<bool> used(recognized.size(), false);
-    // 1. Instances that agree with a held track confirm it.
-    for (std::size_t k : order) {
-      const Detection& d = recognized[k];
-      for (std::size_t i = 0; i < tracks_.size() && !used[k]; ++i) {
-        Track& t = tracks_[i];
-        if (t.model != d.model || taken[i] || distance(t, d) > options_.same_track_m) continue;
-        if (t.state == TrackState::kTracking) {
-          taken[i] = used[k] = true;
-          t.frames_since_check = 0;
-          t.unconfirmed = 0;
-        } else if (t.state == TrackState::kLost) {  // lost this frame, yet recognized here
-          reacquire(i, d, "re-acquired by recognition");
-          used[k] = true;
-        }
-      }
-    }
-    // 2. The others. Where another model's track stands, the instance is that object seen as
-    // a look-alike: not tracked. Else a track of its model that is lost, the nearest first (far
-    // from its last held pose only a confident instance moves it: may_move). Else a held track
-    // recognition looked at and did not find: a confident instance puts it back (it slid off
-    // its object); a less confident one near it is its object at a worse pose (a can turned
-    // about its axis), which neither confirms the track nor counts against it. Else a new track.
-    std::vector<bool> ambiguous(tracks_.size(), false);
-    const auto occupied = [&](const Detection& d) {
-      return std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& t) {
-        return t.model != d.model && Held(t) && distance(t, d) <= options_.same_track_m;
-      });
-    };
-    for (std::size_t k : order) {
-      if (used[k]) continue;
-      const Detection& d = recognized[k];
-      if (occupied(d)) {
-        out.push_back(d);  // published as recognition found it, not tracked (state NONE)
-        continue;
-      }
-      std::size_t best = tracks_.size();
-      for (std::size_t i = 0; i < tracks_.size(); ++i) {
-        const Track& t = tracks_[i];
-        if (t.model != d.model || taken[i] || Held(t) || !may_move(t, d)) continue;
-        if (best == tracks_.size() || distance(t, d) < distance(tracks_[best], d)) best = i;
-      }
-      if (best < tracks_.size()) {
-        reacquire(best, d, "re-acquired by recognition");
-        used[k] = true;
-        continue;
-      }
-      for (std::size_t i = 0; i < tracks_.size() && !used[k]; ++i) {
-        const Track& t = tracks_[i];
-        if (t.model != d.model || taken[i] || !Held(t) || !inside_search(t)) continue;
-        if (d.confidence >= options_.min_extra_track_confidence) {
-          char why[96];
-          std::snprintf(why, sizeof why, "put back by recognition (%.1f cm off)",
-                        100.0f * distance(t, d));
-          reacquire(i, d, why);
-          used[k] = true;
-        } else if (distance(t, d) <= options_.reacquire_radius_m) {
-          ambiguous[i] = true;
-        }
-      }
-      if (used[k]) continue;
-      const bool model_tracked = std::any_of(tracks_.begin(), tracks_.end(),
-                                             [&](const Track& o) { return o.model == d.model; });
-      const float bar = model_tracked    ? options_.min_extra_track_confidence
-                        : frame.attended ? 0.0f
-                                         : options_.min_track_confidence;
-      if (static_cast<int>(tracks_.size()) >= options_.max_tracks || d.confidence < bar) {
-        out.push_back(d);  // published as recognition found it, not tracked (state NONE)
-        continue;
-      }
-      Track t;
-      t.id = next_id_++;
-      t.model = d.model;
-      tracks_.push_back(t);
-      taken.push_back(false);
-      ambiguous.push_back(false);
-      char found[64];
-      std::snprintf(found, sizeof found, "found (confidence %.2f%s)", d.confidence,
-                    frame.attended ? ", the best of a search" : "");
-      reacquire(tracks_.size() - 1, d, found);
-      used[k] = true;
-    }
-    // 3. Held tracks recognition looked at (inside where it searched: a track outside stays
-    // due, and is re-checked when the fovea visits it) and did not find.
-    for (std::size_t i = 0; i < tracks_.size(); ++i) {
-      Track& t = tracks_[i];
-      if (!Held(t) || taken[i] || !inside_search(t)) continue;
-      t.frames_since_check = 0;
-      if (ambiguous[i]) continue;
-      if (++t.unconfirmed >= options_.unconfirmed_rechecks) {
-        t.state = TrackState::kLost;
-        t.lost_seq = frame.seq;
-        Say(events, "track " + std::to_string(t.id) + " lost (not confirmed by " +
-                        std::to_string(t.unconfirmed) + " re-checks)");
-      }
-    }
-  }
-  // The sweep clock of the models no track holds.
+void TrackSet::CountUnheldFrames(const std::vector<TrackModel>& models, bool sweep) {
   centroids_.clear();
   for (const TrackModel& m : models) centroids_.push_back(m.centroid);
   unheld_frames_.resize(models.size(), 0);
   for (std::size_t m = 0; m < models.size(); ++m)
-    unheld_frames_[m] = ModelHeld(static_cast<int>(m)) || frame.sweep ? 0 : unheld_frames_[m] + 1;
+    unheld_frames_[m] = ModelHeld(static_cast<int>(m)) || sweep ? 0 : unheld_frames_[m] + 1;
+}
+
+std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
+                                        const std::vector<TrackModel>& models,
+                                        const std::vector<Detection>& recognized,
+                                        std::string* events) {
+  if (!options_.enabled) return recognized;
+  ForgetLongSearches(frame.seq, events);
+  for (Track& t : tracks_)
+    if (Held(t)) Refine(frame, models, &t, events);
+  if (frame.sweep) ++sweeps_;
+  std::vector<Detection> untracked;
+  if (frame.recognized) {
+    Matching matching(this, frame, models, recognized, events);
+    matching.ConfirmHeld();
+    matching.PlaceTheOthers();
+    matching.MissTheUnfound();
+    untracked = std::move(matching.untracked);
+  }
+  CountUnheldFrames(models, frame.sweep);  // the sweep clock of the models no track holds
   std::vector<Detection> tracked;
-  tracked.reserve(tracks_.size() + out.size());
+  tracked.reserve(tracks_.size() + untracked.size());
   for (const Track& t : tracks_) tracked.push_back(Publish(t, models));
-  tracked.insert(tracked.end(), out.begin(), out.end());
+  tracked.insert(tracked.end(), untracked.begin(), untracked.end());
   return tracked;
 }
 

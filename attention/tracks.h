@@ -181,6 +181,11 @@ class TrackSet {
   void Refine(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
               std::string* events);
   Detection Publish(const Track& t, const std::vector<TrackModel>& models) const;
+  /// Lost last frame: searching now; searched for forget_after_frames: forgotten.
+  void ForgetLongSearches(std::int64_t seq, std::string* events);
+  /// Per model, the frames since a track held it or a sweep looked for it.
+  void CountUnheldFrames(const std::vector<TrackModel>& models, bool sweep);
+  class Matching;  // a frame's recognized instances matched to the tracks (tracks.cc)
 
   bool ModelHeld(int model) const;
   bool Due(const Track& t) const;  // held, and its re-check is due
