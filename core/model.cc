@@ -4,6 +4,7 @@
 #include "core/fail.h"
 #include "core/foveation.h"
 #include "core/nearest_within.h"
+#include "core/seeded_rand.h"
 #include "core/surface_views.h"
 #include "core/symmetry.h"
 
@@ -14,7 +15,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <mutex>
 #include <numeric>
 #include <type_traits>
 
@@ -118,15 +118,11 @@ ShotIndex::ShotIndex(std::vector<float> shots, const RecognitionOptions& options
   // A hierarchical k-means tree with k-means++ seeding: FLANN draws those seeds from std::rand,
   // which we seed, so the index (and every match) is the same on every run. (FLANN's
   // randomized kd-trees shuffle with std::random_device and cannot be made repeatable.)
-  // std::rand is one process-wide sequence and FLANN offers no other: the seed and the build
-  // that draws from it are one critical section, so two indices built at once (a model
-  // switch while the evaluation describes another, say) each get the seeded sequence.
-  static std::mutex rand_mutex;
-  std::lock_guard<std::mutex> lock(rand_mutex);
-  std::srand(options.match_seed);
-  impl_->kmeans = std::make_unique<flann::KMeansIndex<ShotL2>>(
-      data, flann::KMeansIndexParams(options.match_branching, 11, flann::FLANN_CENTERS_KMEANSPP));
-  impl_->kmeans->buildIndex();
+  WithSeededRand(options.match_seed, [&] {
+    impl_->kmeans = std::make_unique<flann::KMeansIndex<ShotL2>>(
+        data, flann::KMeansIndexParams(options.match_branching, 11, flann::FLANN_CENTERS_KMEANSPP));
+    impl_->kmeans->buildIndex();
+  });
 }
 
 ShotIndex::~ShotIndex() = default;

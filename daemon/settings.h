@@ -6,7 +6,7 @@
 #include "attention/tracks.h"
 #include "core/candidates.h"
 #include "core/foveation.h"
-#include "core/preview.h"
+#include "core/pictures/preview.h"
 #include "core/recognition.h"
 #include "core/saliency.h"
 #include "io/base/log.h"

@@ -6,7 +6,7 @@
 #include "core/fail.h"
 #include "core/foveation.h"
 #include "core/mesh.h"
-#include "core/overlay.h"
+#include "core/pictures/overlay.h"
 #include "core/segmentation.h"
 #include "core/sim/scenario.h"
 #include "core/sim/synthetic.h"

@@ -1,9 +1,10 @@
-// Overlays of recognition results as PNG files (core/overlay.h draws them): the scene with each
-// instance's model points, box and confidence, for `saccade recognize --render`, and an image of
-// every case `saccade eval` missed or answered falsely, so a failing case can be seen at a glance.
+// Overlays of recognition results as PNG files (core/pictures/overlay.h draws them): the scene with
+// each instance's model points, box and confidence, for `saccade recognize --render`, and an image
+// of every case `saccade eval` missed or answered falsely, so a failing case can be seen at a
+// glance.
 #pragma once
 
-#include "core/overlay.h"
+#include "core/pictures/overlay.h"
 #include "core/types.h"
 #include "daemon/eval/evaluation.h"
 

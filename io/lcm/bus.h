@@ -5,7 +5,7 @@
 #pragma once
 
 #include "core/fixation.h"
-#include "core/preview.h"
+#include "core/pictures/preview.h"
 #include "core/schema.h"
 #include "core/types.h"
 #include "io/lcm/command_key.h"
@@ -156,7 +156,7 @@ class Bus {
   /// frame's capture time). False when the transport refused to send.
   virtual bool Publish(const FrameDetections& frame, const Fixation& fixation) = 0;
   virtual bool PublishStatus(const StatusReport& status) = 0;
-  /// A frame's preview (PREFIX_PREVIEW, core/preview.h), stamped with the frame's arrival.
+  /// A frame's preview (PREFIX_PREVIEW, core/pictures/preview.h), stamped with the frame's arrival.
   /// False, with one line in `error`, when it was not sent (it did not fit options.max_bytes,
   /// or the transport refused).
   virtual bool PublishPreview(const Preview& preview, std::int64_t arrival_steady_ns,

@@ -2,7 +2,7 @@
 // the points compressed with zlib. Encoded by the daemon's bus, decoded (checked) by viewers.
 #pragma once
 
-#include "core/preview.h"
+#include "core/pictures/preview.h"
 
 #include <Eigen/Core>
 

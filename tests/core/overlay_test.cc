@@ -1,6 +1,7 @@
-// Overlays drawn into an RGB image (core/overlay.h): geometry on hand-made inputs, and the milk
-// carton drawn at its true pose over the real Kinect scene (../shared/data) covering the carton.
-#include "core/overlay.h"
+// Overlays drawn into an RGB image (core/pictures/overlay.h): geometry on hand-made inputs, and the
+// milk carton drawn at its true pose over the real Kinect scene (../shared/data) covering the
+// carton.
+#include "core/pictures/overlay.h"
 
 #include "core/features.h"
 #include "core/types.h"
@@ -90,8 +91,8 @@ TEST(SceneImage, AnUnorganizedCloudLandsWhereItsPointsProjectAndTheNearestWins) 
   EXPECT_EQ(CountColour(image, Rgb{}), 640 * 480 - 2);
 }
 
-// The preview's image (core/preview.cc): an organized cloud decimated by `step` keeps pixel
-// (u step, v step) as its (u, v), coloured or shaded by depth.
+// The preview's image (core/pictures/preview.cc): an organized cloud decimated by `step` keeps
+// pixel (u step, v step) as its (u, v), coloured or shaded by depth.
 TEST(SceneImage, AStepKeepsEveryStepthPixelOfAnOrganizedCloud) {
   Cloud cloud(7, 5);  // 7 x 5: step 2 gives 3 x 2, the odd column and row dropped
   for (int v = 0; v < 5; ++v)

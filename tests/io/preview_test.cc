@@ -1,6 +1,6 @@
-// The preview (core/preview.h) and its wire form (io/lcm/preview.h): what a viewer gets back is
-// what was made, it fits max_bytes, and a malformed message is refused, never trusted.
-#include "core/preview.h"
+// The preview (core/pictures/preview.h) and its wire form (io/lcm/preview.h): what a viewer gets
+// back is what was made, it fits max_bytes, and a malformed message is refused, never trusted.
+#include "core/pictures/preview.h"
 #include "core/foveation.h"
 #include "io/lcm/preview.h"
 

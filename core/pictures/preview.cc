@@ -1,8 +1,8 @@
-#include "core/preview.h"
+#include "core/pictures/preview.h"
 
 #include "core/fail.h"
 #include "core/foveation.h"
-#include "core/overlay.h"
+#include "core/pictures/overlay.h"
 #include "core/verification.h"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "core/overlay.h"
+#include "core/pictures/overlay.h"
 
 #include "core/check.h"
 #include "core/surface_views.h"
