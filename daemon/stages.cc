@@ -1,5 +1,7 @@
 #include "daemon/stages.h"
 
+#include "daemon/attention_command.h"
+
 #include "core/fail.h"
 #include "core/foveation.h"
 #include "daemon/tbb_parallel.h"
@@ -295,10 +297,7 @@ void AttendStage::Process(Job* job) {
   Fixation f = attention_.Update(static_cast<std::int64_t>(job->frame.sequence),
                                  job->frame.capture_utime * 1e-6, seen, job->salient);
   if (pending_) {  // a command overrides what this frame would have done
-    if (pending_->kind == Command::Kind::kSetFovea)
-      attention_.Reset(pending_->fovea_m, "command");
-    else
-      attention_.Reset(initial_fovea_m_, "reset");
+    ApplyFixationCommand(*pending_, initial_fovea_m_, &attention_);
     pending_.reset();
     f = attention_.current();
   }

@@ -35,7 +35,7 @@ for p in clang-14 libfuzzer-14-dev; do
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$p" >/dev/null
   fi
 done
-flags_make="$build_dir/io/CMakeFiles/saccade_io.dir/flags.make"
+flags_make="$build_dir/io/sources/CMakeFiles/saccade_sources.dir/flags.make"
 link_txt="$build_dir/daemon/CMakeFiles/saccaded.dir/link.txt"
 for f in "$flags_make" "$link_txt"; do
   [ -f "$f" ] || { echo "saccade fuzz: $f missing (build first: make build)" >&2; exit 1; }
@@ -61,7 +61,7 @@ declare -A sources=(
   [pcd]="tests/fuzz/pcd_check_fuzz.cc io/formats/pcd_check.cc"
   [command]="tests/fuzz/command_fuzz.cc io/lcm/bus.cc io/base/log.cc io/lcm/fixation_log.cc
              io/lcm/detections_log.cc io/lcm/lcm_log.cc io/viewer/viewer.cc io/lcm/preview.cc
-             attention/attention.cc core/foveation.cc"
+             attention/attention.cc core/foveation.cc daemon/attention_command.cc"
   [config]="tests/fuzz/config_fuzz.cc io/config/config.cc daemon/settings.cc io/formats/truth_file.cc
             io/formats/images.cc io/lcm/fixation_log.cc io/lcm/lcm_log.cc"
   [image]="tests/fuzz/image_fuzz.cc io/formats/images.cc"

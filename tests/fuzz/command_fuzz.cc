@@ -6,8 +6,8 @@
 // return a message or refuse, never crash.
 //
 // Then what the daemon does with a command that decoded (Tracker::Impl::OnCommand in
-// daemon/tracker.cc, and AttendStage::Process in daemon/stages.cc, whose few lines applying a
-// command are repeated here, as the daemon's stages are too heavy to build into a target): a
+// daemon/tracker.cc, and ApplyFixationCommand in daemon/attention_command.cc, which the
+// daemon's attention stage calls: the stages themselves are too heavy to build into a target): a
 // SWITCH_MODEL's path goes through CommandModelAllowed against a model folder that holds a
 // model, a pipe, a link out and a folder, and what it allows must be one of the folder's
 // regular files, found by walking the folder without following links and compared by device
@@ -18,6 +18,7 @@
 // allowed model is the PCD loader's (the `pcd` target) and is not done here.
 #include "attention/attention.h"
 #include "core/foveation.h"
+#include "daemon/attention_command.h"
 #include "io/lcm/bus.h"
 #include "io/lcm/command_key.h"
 #include "io/lcm/detections_log.h"
@@ -105,10 +106,7 @@ void HandleFovea(const saccade::Command& command) {
   const Eigen::Vector3f initial(0, 0, 1);
   saccade::Attention attention(options, initial);
   attention.Update(0, 0.0, {}, {});
-  if (command.kind == saccade::Command::Kind::kSetFovea)
-    attention.Reset(command.fovea_m, "command");
-  else
-    attention.Reset(initial, "reset");
+  saccade::ApplyFixationCommand(command, initial, &attention);
   const saccade::Fixation& f = attention.current();
   if (!f.fovea_m.allFinite() || !(f.growth_m >= options.growth_min_m) ||
       !(f.growth_m <= options.growth_max_m))
