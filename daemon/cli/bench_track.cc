@@ -72,7 +72,9 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       .Value("tolerance-deg", "D", "... and D degrees of the truth" + Args::Default(kToleranceDeg))
       .Value("wrong-cm", "W",
              "a detection over W centimetres off is on a wrong place" + Args::Default(kWrongCm))
-      .Value("frames-out", "F.jsonl", "write one JSON line a frame")
+      .Value("frames-out", "F.jsonl",
+             "write one JSON line a frame (each object: visible, within, wrong, the error and, "
+             "when an instance was scored, its position at_m and the truth's truth_at_m)")
       .Value("truth", "FILE.csv",
              "the target's pose per frame (frame,T00..T33, the camera frame), for a source "
              "that carries none (a recording by others); frames without a row are not scored")
@@ -322,7 +324,13 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       for (const ObjectOutcome& oo : o.objects) {
         j.BeginObject().Key("visible").Value(oo.visible).Key("within").Value(oo.good);
         j.Key("wrong").Value(oo.wrong).Key("error_cm").Value(oo.error_cm);
-        j.Key("error_deg").Value(oo.error_deg).EndObject();
+        j.Key("error_deg").Value(oo.error_deg);
+        if (oo.error_cm >= 0) {  // where the instance scored was, and where the truth was
+          const Eigen::Matrix4f pose = oo.pose, truth = oo.truth;
+          j.Key("at_m").Vector3(pose.block<3, 1>(0, 3));
+          j.Key("truth_at_m").Vector3(truth.block<3, 1>(0, 3));
+        }
+        j.EndObject();
       }
       j.EndArray().Key("states").Value(o.states).Key("reason").Value(o.reason).EndObject();
       log += j.str() + "\n";
