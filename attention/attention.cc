@@ -53,6 +53,16 @@ Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
   return aim_m;
 }
 
+Eigen::Vector3f LandGiven(const Fixation& f, const std::vector<Eigen::Vector3f>& places,
+                          float reach_m, float stay_m) {
+  const bool near = std::any_of(places.begin(), places.end(), [&](const Eigen::Vector3f& p) {
+    return (p - f.fovea_m).norm() <= reach_m;
+  });
+  if (near || f.aimed || places.empty() || reach_m <= 0)
+    return LandOnCandidate(f.fovea_m, places, reach_m, stay_m);
+  return places.front();
+}
+
 bool FollowsTentative(const Fixation& f) {
   return f.mode == AttentionMode::kTracking && f.reason.rfind("tentative", 0) == 0;
 }
@@ -67,7 +77,7 @@ Attention::Attention(const AttentionOptions& options, const Eigen::Vector3f& ini
   Reset(initial_fovea_m);
 }
 
-void Attention::Reset(const Eigen::Vector3f& fovea_m, const std::string& reason) {
+void Attention::Reset(const Eigen::Vector3f& fovea_m, const std::string& reason, bool aimed) {
   const std::int64_t seq = current_.frame_seq;
   const double time_s = current_.time_s;
   current_ = Fixation{};
@@ -82,7 +92,8 @@ void Attention::Reset(const Eigen::Vector3f& fovea_m, const std::string& reason)
   saccading_ = false;
   candidate_visits_ = 0;
   has_tentative_ = false;
-  land_pending_ = true;
+  current_.lands = true;
+  current_.aimed = aimed;
 }
 
 void Attention::SetOptions(const AttentionOptions& options) {
@@ -204,7 +215,7 @@ void Attention::Follow(const Target& target, double time_s, const char* reason, 
   saccading_ = false;
   candidate_visits_ = 0;
   has_tentative_ = false;
-  land_pending_ = false;
+  next->lands = false;
   next->fovea_m = target.PredictedAt(time_s);
   next->velocity_mps = target.velocity_mps;
   next->growth_m = options_.growth_min_m;
@@ -289,6 +300,19 @@ bool Attention::VisitCandidate(const std::vector<Eigen::Vector3f>& places, Fixat
   return true;
 }
 
+// The given fovea lands on `landed_m` (the fovea itself: it stays), the search's first visit.
+void Attention::Land(const Eigen::Vector3f& landed_m, Fixation* f) {
+  f->lands = false;
+  if (landed_m == f->fovea_m) return;
+  visited_.assign(1, f->fovea_m);
+  ++candidate_visits_;
+  JumpTo(landed_m, "landed", f);
+}
+
+void Attention::Landed(const Eigen::Vector3f& aim_m, const Eigen::Vector3f& landed_m) {
+  if (current_.lands && current_.fovea_m == aim_m) Land(landed_m, &current_);
+}
+
 void Attention::Lost(const std::vector<Eigen::Vector3f>& places, Fixation* next) {
   next->velocity_mps.setZero();  // a lost target's fovea stays where it was last seen
   if (current_.mode == AttentionMode::kFullScan) {
@@ -301,16 +325,11 @@ void Attention::Lost(const std::vector<Eigen::Vector3f>& places, Fixation* next)
   const bool growing = current_.growth_m > options_.growth_min_m || saccading_;
   if (options_.search == SearchKind::kCandidates && !growing && targets_.empty()) {
     // A fovea given from outside (the initial one, a command) first lands on the object near it.
-    if (land_pending_ && options_.land_on_candidate_m > 0 && !places.empty()) {
-      land_pending_ = false;
-      const Eigen::Vector3f landed = LandOnCandidate(
-          current_.fovea_m, places, options_.land_on_candidate_m, options_.land_stay_m);
-      if (landed != current_.fovea_m) {
-        visited_.assign(1, current_.fovea_m);
-        ++candidate_visits_;
-        JumpTo(landed, "landed", next);
-        return;
-      }
+    if (current_.lands && options_.land_on_candidate_m > 0 && !places.empty()) {
+      const Eigen::Vector3f landed =
+          LandGiven(current_, places, options_.land_on_candidate_m, options_.land_stay_m);
+      Land(landed, next);
+      if (landed != current_.fovea_m) return;
     }
     if (VisitCandidate(places, next)) return;
     if (has_tentative_ && tentative_.confidence >= options_.tentative_min_confidence) {

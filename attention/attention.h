@@ -105,6 +105,11 @@ Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
                                 const std::vector<Eigen::Vector3f>& places, float reach_m,
                                 float stay_m = 0);
 
+/// Where a given fovea (`f.lands`) lands: LandOnCandidate over `places` (best first); a guess
+/// (not `f.aimed`) with no candidate within `reach_m` lands on the best of them.
+Eigen::Vector3f LandGiven(const Fixation& f, const std::vector<Eigen::Vector3f>& places,
+                          float reach_m, float stay_m);
+
 /// True when attention follows the best instance of a search from nothing, one that started
 /// no track (reason "tentative"): saccaded lets a track start from it below the bar.
 bool FollowsTentative(const Fixation& f);
@@ -119,8 +124,15 @@ class Attention {
   /// fallback, the salient regions of its coarse level.
   Fixation Update(std::int64_t frame_seq, double time_s, const std::vector<Detection>& sightings,
                   const std::vector<Eigen::Vector3f>& places = {});
-  /// Forgets every target: searching around `fovea_m` with G_min. `reason` goes in the record.
-  void Reset(const Eigen::Vector3f& fovea_m, const std::string& reason = "reset");
+  /// A frame foveated at the given fovea `aim_m` (Fixation::lands) was landed by its
+  /// recognizer on `landed_m` (LandOnCandidate over that frame's candidates) and recognized
+  /// there: the search counts that as its landing. Call before that frame's Update. Ignored
+  /// when the landing is done already or the fovea was given again since (a command).
+  void Landed(const Eigen::Vector3f& aim_m, const Eigen::Vector3f& landed_m);
+  /// Forgets every target: searching around `fovea_m` with G_min. `reason` goes in the record;
+  /// `aimed`: the fovea is an aim (a command), not a guess (Fixation::aimed).
+  void Reset(const Eigen::Vector3f& fovea_m, const std::string& reason = "reset",
+             bool aimed = false);
   /// New options (a reloaded config); targets are kept, G is clamped into the new range.
   void SetOptions(const AttentionOptions& options);
   const Fixation& current() const { return current_; }
@@ -148,6 +160,7 @@ class Attention {
   void Follow(const Target& target, double time_s, const char* reason, Fixation* next);
   void Lost(const std::vector<Eigen::Vector3f>& places, Fixation* next);
   bool VisitCandidate(const std::vector<Eigen::Vector3f>& places, Fixation* next);
+  void Land(const Eigen::Vector3f& landed_m, Fixation* f);
   bool Qualifies(const Detection& s) const;
   void Remember(const std::vector<Detection>& sightings, const std::vector<bool>& used);
 
@@ -160,9 +173,7 @@ class Attention {
   /// This search's candidate visits, and its most confident sighting below acquire_confidence.
   int candidate_visits_ = 0;
   bool has_tentative_ = false;
-  bool challenged_ = false;
-  bool land_pending_ = false;  // the fovea was given from outside: land it on a candidate  // this
-                               // frame's sighting of the followed target took it elsewhere
+  bool challenged_ = false;  // this frame's sighting of the followed target took it elsewhere
   Detection tentative_;
 };
 

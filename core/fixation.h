@@ -35,6 +35,14 @@ struct Fixation {
   int num_targets = 0;  // targets attention knows of
   /// Why it is where it is: detected, alternate, lost, grow, full_scan, saccade, command, reset.
   std::string reason;
+  /// The fovea was given from outside (the initial fovea, a reset, a command) and has not
+  /// landed yet: the next frame lands it on the best candidate near it before recognizing
+  /// (attention/attention.h, LandGiven and Attention::Landed), so that landing costs no frame.
+  bool lands = false;
+  /// ...and it was aimed (a command's SET_FOVEA): with no candidate near, it stays where aimed
+  /// for a frame. Not aimed (the initial fovea, a reset), it is a guess: with no candidate near,
+  /// it lands on the frame's best candidate.
+  bool aimed = false;
 
   /// Where to foveate a frame captured at `capture_time_s`: the fovea moved on by the velocity
   /// for at most `max_horizon_s` (the predictor's lead; zero velocity: the fovea itself).

@@ -83,6 +83,13 @@ std::vector<Eigen::Vector3f> MergedCandidates(const Cloud& cloud, const CameraIn
   return out;
 }
 
+// True when a frame foveated at `used` lands it on a candidate first: the fovea was given and
+// not landed yet, and the search visits candidates.
+bool LandsNow(const StageConfig& c, const Fixation& used) {
+  return used.lands && used.mode == AttentionMode::kSearching && c.search_candidates &&
+         c.land_on_candidate_m > 0;
+}
+
 }  // namespace
 
 std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
@@ -120,6 +127,8 @@ std::shared_ptr<const RecognizeStage::Config> RecognizeStage::MakeConfig(const D
   c->saccade_fallback = s.attention.fallback == LostFallback::kSaccade;
   c->search_candidates = s.attention.search == SearchKind::kCandidates;
   c->candidates = s.candidates;
+  c->land_on_candidate_m = s.attention.land_on_candidate_m;
+  c->land_stay_m = s.attention.land_stay_m;
   c->predict_max_horizon_s = s.attention.predict ? s.attention.predict_max_horizon_s : 0.0f;
   c->preview = s.preview;
   SetModels(c.get(), std::move(models));
@@ -163,6 +172,12 @@ void RecognizeStage::Process(Job* job) {
     q.fovea_m = *job->recheck_at;
     q.fovea.growth_m.setZero();
     q.search_phase = 0;
+  } else if (job->recognize && LandsNow(c, job->used)) {
+    // A given fovea (the initial one, a command) lands on the object near it in this very
+    // frame: the candidates cost about a millisecond, a frame recognized off the object 33.
+    job->salient = MergedCandidates(*frame.cloud, frame.intrinsics, c.models, c.candidates);
+    job->landed_m = LandGiven(job->used, job->salient, c.land_on_candidate_m, c.land_stay_m);
+    q.fovea_m = *job->landed_m;
   }
   FrameDetections& out = job->detections;
   out.seq = static_cast<std::int64_t>(frame.sequence);
@@ -199,7 +214,7 @@ void RecognizeStage::Process(Job* job) {
   out.instances = std::move(r.instances);
   // Only a search looks elsewhere: at every model's candidates, best first, or at the salient
   // regions of the saccade fallback.
-  if (job->used.mode == AttentionMode::kSearching) {
+  if (job->used.mode == AttentionMode::kSearching && !job->landed_m) {
     if (c.search_candidates)
       job->salient = MergedCandidates(*frame.cloud, frame.intrinsics, c.models, c.candidates);
     else if (c.saccade_fallback)
@@ -294,6 +309,7 @@ void AttendStage::Process(Job* job) {
   if (tracking && seen.empty() && from_nothing)
     for (const Detection& d : job->detections.instances)
       if (d.track_state == TrackState::kNone) seen.push_back(d);
+  if (job->landed_m) attention_.Landed(job->used.fovea_m, *job->landed_m);
   Fixation f = attention_.Update(static_cast<std::int64_t>(job->frame.sequence),
                                  job->frame.capture_utime * 1e-6, seen, job->salient);
   if (pending_) {  // a command overrides what this frame would have done

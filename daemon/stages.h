@@ -43,6 +43,9 @@ struct StageConfig {
   TrackingOptions tracking;
   bool saccade_fallback = false;   // look for salient regions while searching
   bool search_candidates = false;  // propose whole-frame candidates while searching
+  /// A given fovea lands on the best candidate this near it, in the frame it is given for
+  /// (AttentionOptions::land_on_candidate_m and land_stay_m; 0: it stays where given).
+  float land_on_candidate_m = 0, land_stay_m = 0;
   CandidateOptions candidates;
   float predict_max_horizon_s = 0;  // the predictor's lead (0: off)
   PreviewOptions preview;           // PREFIX_PREVIEW (off by default)
@@ -70,6 +73,9 @@ struct Job {
   /// Where a search looks next, best first: the frame's candidates (attention.search:
   /// candidates) or the coarse level's salient regions (the saccade fallback).
   std::vector<Eigen::Vector3f> salient;
+  /// Where recognition landed a given fovea (Fixation::lands) before looking: attention is
+  /// told (Attention::Landed), so the landing is not made again a frame later.
+  std::optional<Eigen::Vector3f> landed_m;
   double track_ms = 0, attention_ms = 0;
   std::string track_events;  // what changed in the tracks, for the fixation's reason
   Fixation next;             // attention's fixation after this frame

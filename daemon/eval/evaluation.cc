@@ -190,8 +190,8 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
       std::nth_element(runs.begin(), median, runs.end(),
                        [](const Trial& a, const Trial& b) { return a.ms < b.ms; });
       if (acquisitions && described[s.model])
-        (*acquisitions)[k].push_back(
-            Acquire(*described[s.model], s, q, o, search, proposed, median->instances));
+        (*acquisitions)[k].push_back(Acquire(*described[s.model], s, fovea(k, i), q, o, search,
+                                             proposed, median->instances));
       median->evidence = evidence;
       (*trials)[k].push_back(std::move(*median));
       if (tick_) tick_(k * scenes.size() + i + 1, placements * scenes.size());
@@ -233,12 +233,16 @@ CaseEvidence Runner::Evidence(const RecognitionResult& r, const Scene& s,
   return e;
 }
 
-Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
-                            const RecognitionOptions& o, const SearchOptions& search,
-                            const Proposed& proposed, const std::vector<Detection>& first) const {
+Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s,
+                            const Eigen::Vector3f& aim_m, SceneQuery q, const RecognitionOptions& o,
+                            const SearchOptions& search, const Proposed& proposed,
+                            const std::vector<Detection>& first) const {
   constexpr int kMaxFrames = 30;
   Acquisition a;
-  Attention attention(search.attention, q.fovea_m);
+  // Given the fovea `aim_m`, the first frame was recognized where it landed (q.fovea_m), as
+  // saccaded lands a given fovea in the frame it is given for.
+  Attention attention(search.attention, aim_m);
+  attention.Landed(aim_m, q.fovea_m);
   const bool foveated = q.foveated;
   // The scene is the same every frame: its candidates were proposed once, and their cost is
   // counted in every frame that searches (saccaded proposes them on each search frame).

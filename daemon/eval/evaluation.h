@@ -145,8 +145,8 @@ class Runner {
   CaseEvidence Evidence(const RecognitionResult& r, const Scene& s,
                         const std::optional<ModelDescription>& model,
                         const RecognitionOptions& given) const;
-  Acquisition Acquire(const ModelDescription& model, const Scene& s, SceneQuery q,
-                      const RecognitionOptions& o, const SearchOptions& search,
+  Acquisition Acquire(const ModelDescription& model, const Scene& s, const Eigen::Vector3f& aim_m,
+                      SceneQuery q, const RecognitionOptions& o, const SearchOptions& search,
                       const Proposed& proposed, const std::vector<Detection>& first) const;
 
   const std::vector<EvalModel>& models_;

@@ -111,8 +111,9 @@ TEST(Attention, ASearchVisitsCandidatesBestFirstThenFollowsTheMostConfidentSight
   const std::vector<Eigen::Vector3f> places = {
       Eigen::Vector3f(0.4f, 0, 1), Eigen::Vector3f(-0.4f, 0, 1), Eigen::Vector3f(0.8f, 0, 1),
       Eigen::Vector3f(-0.8f, 0, 1)};
+  // The initial fovea, a guess with no candidate within reach, lands on the best: the first visit.
   Fixation f = a.Update(1, 0.0, {}, places);
-  EXPECT_EQ(f.reason, "candidate");
+  EXPECT_EQ(f.reason, "landed");
   EXPECT_EQ(f.mode, AttentionMode::kSearching);
   EXPECT_TRUE(f.fovea_m.isApprox(places[0]));
   EXPECT_EQ(f.growth_m, 0.0f);
@@ -133,7 +134,7 @@ TEST(Attention, ASearchVisitsCandidatesBestFirstThenFollowsTheMostConfidentSight
 TEST(Attention, AConfidentSightingIsFollowedAtOnceAndAWeakOneNot) {
   const std::vector<Eigen::Vector3f> places = {Eigen::Vector3f(0.4f, 0, 1)};
   Attention a(AttentionOptions{}, Eigen::Vector3f(0, 0, 1));
-  EXPECT_EQ(a.Update(1, 0.0, {Seen(0.1f, 0.89f)}, places).reason, "candidate");
+  EXPECT_EQ(a.Update(1, 0.0, {Seen(0.1f, 0.89f)}, places).reason, "landed");
   const Fixation f = a.Update(2, 0.1, {Seen(0.1f, 0.89f), Seen(0.4f, 0.95f)}, places);
   EXPECT_EQ(f.reason, "detected");
   EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0.4f, 0, 1)));
@@ -199,8 +200,60 @@ TEST(Attention, AGivenFoveaLandsOnTheNearestCandidateFirst) {
   f = a.Update(2, 0.1, {}, places);  // then the candidates, best first
   EXPECT_EQ(f.reason, "candidate");
   EXPECT_TRUE(f.fovea_m.isApprox(places[0]));
-  a.Reset(Eigen::Vector3f(0.45f, 0, 1), "command");
+  a.Reset(Eigen::Vector3f(0.45f, 0, 1), "command", /*aimed=*/true);
   EXPECT_TRUE(a.Update(3, 0.2, {}, places).fovea_m.isApprox(places[0]));
+}
+
+// A guessed fovea (the initial one, a reset) with no candidate within reach lands on the best
+// of them; an aimed one (a command) stays where it was aimed; either lands on one within reach.
+TEST(Attention, AGuessedFoveaLandsOnTheBestCandidateAndAnAimedOneStays) {
+  const std::vector<Eigen::Vector3f> places = {Eigen::Vector3f(0.6f, 0, 1),
+                                               Eigen::Vector3f(0.12f, 0, 1)};
+  Fixation guess;
+  guess.fovea_m = Eigen::Vector3f(0, 0, 1);
+  guess.lands = true;
+  Fixation aim = guess;
+  aim.aimed = true;
+  EXPECT_TRUE(LandGiven(guess, places, 0.1f, 0).isApprox(places[0]));
+  EXPECT_TRUE(LandGiven(aim, places, 0.1f, 0).isApprox(aim.fovea_m));
+  EXPECT_TRUE(LandGiven(guess, places, 0.2f, 0).isApprox(places[1]));
+  EXPECT_TRUE(LandGiven(aim, places, 0.2f, 0).isApprox(places[1]));
+  EXPECT_TRUE(LandGiven(guess, {}, 0.2f, 0).isApprox(guess.fovea_m));
+  EXPECT_TRUE(LandGiven(guess, places, 0, 0).isApprox(guess.fovea_m));  // landing off
+}
+
+// saccaded lands a given fovea in the frame it is given for (Attention::Landed): the search
+// counts that landing, so the next frame visits the next candidate, not the same one again; a
+// landing for a fovea given since (a command) is not this one's.
+TEST(Attention, ALandingMadeByTheFrameIsCountedOnce) {
+  AttentionOptions o;
+  o.land_on_candidate_m = 0.25f;
+  o.land_stay_m = 0;
+  const std::vector<Eigen::Vector3f> places = {Eigen::Vector3f(0.5f, 0, 1),
+                                               Eigen::Vector3f(0.1f, 0, 1.1f)};
+  const Eigen::Vector3f start(0, 0, 1);
+  Attention a(o, start);
+  EXPECT_TRUE(a.current().lands);
+  a.Landed(start, places[1]);
+  EXPECT_FALSE(a.current().lands);
+  EXPECT_EQ(a.current().reason, "landed");
+  EXPECT_TRUE(a.current().fovea_m.isApprox(places[1]));
+  a.Landed(start, places[0]);  // once only
+  EXPECT_TRUE(a.current().fovea_m.isApprox(places[1]));
+  Fixation f = a.Update(1, 0.0, {}, places);
+  EXPECT_EQ(f.reason, "candidate");
+  EXPECT_TRUE(f.fovea_m.isApprox(places[0]));
+
+  const Eigen::Vector3f asked(0.45f, 0, 1);
+  a.Reset(asked, "command", /*aimed=*/true);
+  EXPECT_TRUE(a.current().aimed);
+  a.Landed(start, places[1]);  // landed for the fovea before the command: not this one's
+  EXPECT_TRUE(a.current().lands);
+  EXPECT_TRUE(a.current().fovea_m.isApprox(asked));
+  // A target followed: nothing left to land.
+  f = a.Update(2, 0.1, {Seen(0.45f, 0.95f)}, places);
+  EXPECT_EQ(f.mode, AttentionMode::kTracking);
+  EXPECT_FALSE(f.lands);
 }
 
 TEST(Attention, AlternatesBetweenInstancesAndModelsOnePerFrame) {
@@ -333,7 +386,7 @@ TEST(Attention, ResetAndNewOptionsKeepTheRecordInRange) {
   a.SetOptions(o);
   EXPECT_FLOAT_EQ(a.current().growth_m, 0.5f);
   a.Update(2, 0.0, {At(0, 0, 1)});
-  a.Reset(Eigen::Vector3f(1, 0, 2), "command");
+  a.Reset(Eigen::Vector3f(1, 0, 2), "command", /*aimed=*/true);
   EXPECT_EQ(a.current().reason, "command");
   EXPECT_EQ(a.current().mode, AttentionMode::kSearching);
   EXPECT_EQ(a.current().target, -1);
