@@ -300,13 +300,15 @@ bool Attention::VisitCandidate(const std::vector<Eigen::Vector3f>& places, Fixat
   return true;
 }
 
-// The given fovea lands on `landed_m` (the fovea itself: it stays), the search's first visit.
+// The given fovea lands on `landed_m` (the fovea itself: it stays). Landing near it is not one
+// of the search's candidate visits; a guess's jump to the frame's best candidate is its first.
 void Attention::Land(const Eigen::Vector3f& landed_m, Fixation* f) {
   f->lands = false;
   if (landed_m == f->fovea_m) return;
   visited_.assign(1, f->fovea_m);
-  ++candidate_visits_;
-  JumpTo(landed_m, "landed", f);
+  const bool visit = (landed_m - f->fovea_m).norm() > options_.land_on_candidate_m;
+  candidate_visits_ += visit;
+  JumpTo(landed_m, visit ? "candidate" : "landed", f);
 }
 
 void Attention::Landed(const Eigen::Vector3f& aim_m, const Eigen::Vector3f& landed_m) {

@@ -74,7 +74,8 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
              "a detection over W centimetres off is on a wrong place" + Args::Default(kWrongCm))
       .Value("frames-out", "F.jsonl",
              "write one JSON line a frame (each object: visible, within, wrong, the error and, "
-             "when an instance was scored, its position at_m and the truth's truth_at_m)")
+             "when an instance was scored, its position at_m and the truth's truth_at_m; the "
+             "truth's centroid_m; where recognition looked, looked_at_m)")
       .Value("truth", "FILE.csv",
              "the target's pose per frame (frame,T00..T33, the camera frame), for a source "
              "that carries none (a recording by others); frames without a row are not scored")
@@ -183,11 +184,13 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
     double error_cm = -1, error_deg = -1;  // the held instance nearest the truth
     // That instance's pose and the model's truth (when error_cm >= 0); unaligned in a vector.
     Eigen::Matrix<float, 4, 4, Eigen::DontAlign> pose, truth;
+    Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();  // the truth's centroid of the object
   };
   struct Outcome {
     bool processed = false;
     std::vector<ObjectOutcome> objects;
     std::string states, reason;
+    std::optional<Eigen::Vector3f> looked_at_m;  // the fovea recognition looked at, if it ran
   };
   const auto truth_of = [](const GroundTruth& g, std::size_t j) {
     return j == 0 ? GroundTruth::Object{g.target_pose, g.centroid_m, g.visible_fraction}
@@ -236,6 +239,7 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
     Outcome& o = outcomes[index];
     o.processed = true;
     o.reason = at_truth ? "fovea on the truth" : published->Frames().back().fixation.reason;
+    if (d.recognize_ms > 0) o.looked_at_m = d.foveated ? d.fovea_m : truth.centroid_m;
     for (const Detection& inst : d.instances) {
       char state[48];
       std::snprintf(state, sizeof state, "%s%s %.2f", o.states.empty() ? "" : ", ",
@@ -297,8 +301,11 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
     }
     outcomes.emplace_back();
     outcomes.back().objects.resize(objects);
-    for (std::size_t j = 0; j < objects; ++j)
-      outcomes.back().objects[j].visible = truth_of(*frame.truth, j).visible_fraction >= 0.2f;
+    for (std::size_t j = 0; j < objects; ++j) {
+      const GroundTruth::Object truth = truth_of(*frame.truth, j);
+      outcomes.back().objects[j].visible = truth.visible_fraction >= 0.2f;
+      outcomes.back().objects[j].centroid_m = truth.centroid_m;
+    }
     const double arrival_s = at_truth ? busy_until_s : double(i) / *rate;  // none dropped
     if (pending && busy_until_s <= arrival_s) {  // freed before this frame came: takes the last
       const double start = busy_until_s;
@@ -323,6 +330,7 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
       j.Key("objects").BeginArray();
       for (const ObjectOutcome& oo : o.objects) {
         j.BeginObject().Key("visible").Value(oo.visible).Key("within").Value(oo.good);
+        j.Key("centroid_m").Vector3(oo.centroid_m);
         j.Key("wrong").Value(oo.wrong).Key("error_cm").Value(oo.error_cm);
         j.Key("error_deg").Value(oo.error_deg);
         if (oo.error_cm >= 0) {  // where the instance scored was, and where the truth was
@@ -332,7 +340,9 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
         }
         j.EndObject();
       }
-      j.EndArray().Key("states").Value(o.states).Key("reason").Value(o.reason).EndObject();
+      j.EndArray();
+      if (o.looked_at_m) j.Key("looked_at_m").Vector3(*o.looked_at_m);
+      j.Key("states").Value(o.states).Key("reason").Value(o.reason).EndObject();
       log += j.str() + "\n";
     }
     std::string error;

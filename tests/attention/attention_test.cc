@@ -113,7 +113,7 @@ TEST(Attention, ASearchVisitsCandidatesBestFirstThenFollowsTheMostConfidentSight
       Eigen::Vector3f(-0.8f, 0, 1)};
   // The initial fovea, a guess with no candidate within reach, lands on the best: the first visit.
   Fixation f = a.Update(1, 0.0, {}, places);
-  EXPECT_EQ(f.reason, "landed");
+  EXPECT_EQ(f.reason, "candidate");
   EXPECT_EQ(f.mode, AttentionMode::kSearching);
   EXPECT_TRUE(f.fovea_m.isApprox(places[0]));
   EXPECT_EQ(f.growth_m, 0.0f);
@@ -134,7 +134,7 @@ TEST(Attention, ASearchVisitsCandidatesBestFirstThenFollowsTheMostConfidentSight
 TEST(Attention, AConfidentSightingIsFollowedAtOnceAndAWeakOneNot) {
   const std::vector<Eigen::Vector3f> places = {Eigen::Vector3f(0.4f, 0, 1)};
   Attention a(AttentionOptions{}, Eigen::Vector3f(0, 0, 1));
-  EXPECT_EQ(a.Update(1, 0.0, {Seen(0.1f, 0.89f)}, places).reason, "landed");
+  EXPECT_EQ(a.Update(1, 0.0, {Seen(0.1f, 0.89f)}, places).reason, "candidate");
   const Fixation f = a.Update(2, 0.1, {Seen(0.1f, 0.89f), Seen(0.4f, 0.95f)}, places);
   EXPECT_EQ(f.reason, "detected");
   EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0.4f, 0, 1)));
