@@ -27,6 +27,8 @@ bool CandidateOptions::IsValid(std::string* error) const {
     return Fail(error, "max_candidates must be in [1, 1000]");
   if (!std::isfinite(colour_weight) || colour_weight < 0 || colour_weight > 1)
     return Fail(error, "colour_weight must be in [0, 1]");
+  if (!std::isfinite(shape_weight) || shape_weight < 0 || shape_weight > 1)
+    return Fail(error, "shape_weight must be in [0, 1]");
   return true;
 }
 
@@ -97,7 +99,19 @@ struct Cell {
   float weight = 0;                                    // sum of colour weights
   Eigen::Vector3f weighted = Eigen::Vector3f::Zero();  // sum of weight x position
   Eigen::Vector3f sum = Eigen::Vector3f::Zero();       // sum of positions
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();     // sum of position x position'
 };
+
+// The root of the least eigenvalue of the covariance of `n` points with these sums: how far
+// they spread across their flattest direction.
+float Thickness(int n, const Eigen::Vector3d& sum, const Eigen::Matrix3d& outer) {
+  if (n < 3) return 0;
+  const Eigen::Vector3d mean = sum / double(n);
+  const Eigen::Matrix3d covariance = outer / double(n) - mean * mean.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(covariance, Eigen::EigenvaluesOnly);
+  return float(std::sqrt(std::max(0.0, eig.eigenvalues()(0))));
+}
 
 std::int64_t CellKey(int x, int y, int z) {
   constexpr std::int64_t kSpan = 1 << 20;  // +-2^19 cells each way
@@ -107,21 +121,28 @@ std::int64_t CellKey(int x, int y, int z) {
 
 }  // namespace
 
-ModelSignature SignModel(const Cloud& model, float spacing_m) {
+ModelSignature SignModel(const Cloud& model, float spacing_m, bool whole_surface) {
   ModelSignature s;
   Box box{Eigen::Vector3f::Constant(INFINITY), Eigen::Vector3f::Constant(-INFINITY)};
   int finite = 0, coloured = 0;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
   for (const PointT& p : model) {
     if (!FinitePoint(p)) continue;
     ++finite;
     box.min = box.min.cwiseMin(p.getVector3fMap());
     box.max = box.max.cwiseMax(p.getVector3fMap());
+    const Eigen::Vector3d q = p.getVector3fMap().cast<double>();
+    sum += q;
+    outer += q * q.transpose();
     coloured += (p.r | p.g | p.b) != 0;
     AddColour(p, &s.colour);
   }
   if (finite == 0) return s;
   s.radius_m = 0.5f * box.Size().norm();
-  s.seen_area_m2 = float(finite) * spacing_m * spacing_m;
+  const float seen_share = whole_surface ? 0.5f : 1.0f;
+  s.seen_area_m2 = seen_share * float(finite) * spacing_m * spacing_m;
+  s.thickness_m = seen_share * Thickness(finite, sum, outer);
   // A model without colour reads as all black: every point too dark for a chromaticity.
   float counted = 0;
   for (float v : s.colour) counted += v;
@@ -194,6 +215,8 @@ std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraInt
     cell.weight += w;
     cell.weighted += w * s.p;
     cell.sum += s.p;
+    const Eigen::Vector3d q = s.p.cast<double>();
+    cell.outer += q * q.transpose();
   }
   std::vector<std::array<int, 3>> offsets;
   for (int dx = -2; dx <= 2; ++dx)
@@ -203,6 +226,7 @@ std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraInt
   // A coarse sample at depth z stands for (stride z / f)^2 of surface facing the camera.
   const float focal = float(0.5 * (intrinsics.fx + intrinsics.fy)) / float(o.stride_px);
   const float cw = colour ? o.colour_weight : 0.0f;
+  const float sw = model.thickness_m > 0 ? o.shape_weight : 0.0f;
   std::vector<Candidate> windows;
   windows.reserve(coords.size());
   for (const auto& c : coords) {
@@ -214,6 +238,7 @@ std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraInt
       w.weight += it->second.weight;
       w.weighted += it->second.weighted;
       w.sum += it->second.sum;
+      w.outer += it->second.outer;
     }
     Candidate k;
     k.points = w.points;
@@ -224,7 +249,10 @@ std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraInt
     // (whose window holds more), matches less.
     k.fill = std::min(float(w.points) / expected, expected / float(w.points));
     k.colour = w.weight / float(w.points);
-    k.score = k.fill * ((1 - cw) + cw * k.colour);
+    if (sw > 0)
+      k.shape =
+          std::min(1.0f, Thickness(w.points, w.sum.cast<double>(), w.outer) / model.thickness_m);
+    k.score = k.fill * ((1 - sw) + sw * k.shape) * ((1 - cw) + cw * k.colour);
     k.centre_m = w.weight > 0 ? Eigen::Vector3f(w.weighted / w.weight) : mean;
     windows.push_back(k);
   }

@@ -1,7 +1,9 @@
 // Where in the whole frame the model may be, before any descriptor is computed: the table plane
 // is removed from a coarse view of the frame, and what stands above it is scored in model-sized
-// windows by how well the amount of it matches what the model would cover at that depth, and by
-// how much of it has the model's colours (histogram back-projection, Swain and Ballard 1991).
+// windows by how well the amount of it matches what the model would cover at that depth, by
+// whether it is as thick as the model (a patch of a wall or a board is flat, a solid object seen
+// at a corner is not), and by how much of it has the model's colours (histogram
+// back-projection, Swain and Ballard 1991).
 // The attention loop sends the fovea to the best candidates first; recognition and verification
 // at each decide. Pure: an organized cloud in, ranked points out.
 #pragma once
@@ -29,6 +31,9 @@ struct CandidateOptions {
   /// Colour's share of a candidate's score (0: geometry alone; used only when the model and the
   /// frame both have colour).
   float colour_weight = 0.75f;
+  /// Thickness's share of a candidate's score: a window thinner than the model (its points'
+  /// spread across their flattest direction) scores less, in proportion (0: not looked at).
+  float shape_weight = 0.5f;
   std::uint32_t seed = 1;  // RANSAC's: the same frame gives the same candidates
 
   bool IsValid(std::string* error) const;
@@ -43,6 +48,7 @@ struct CandidateOptions {
     a->Visit("plane_iterations", &plane_iterations);
     a->Visit("max_candidates", &max_candidates);
     a->Visit("colour_weight", &colour_weight);
+    a->Visit("shape_weight", &shape_weight);
   }
 };
 
@@ -54,18 +60,27 @@ struct ModelSignature {
   float seen_area_m2 = 0;
   ColourHistogram colour{};  // normalized; meaningful when `coloured`
   bool coloured = false;
+  /// How thick the model is as the sensor sees it: the root of its points' least covariance
+  /// eigenvalue (0 for one flat face; about a third of the edge for a box seen at a corner).
+  float thickness_m = 0;
 };
 
-/// The signature of a model cloud whose median point spacing is `spacing_m` (ModelScale).
-ModelSignature SignModel(const Cloud& model, float spacing_m);
+/// The signature of a model cloud whose median point spacing is `spacing_m` (ModelScale). A
+/// whole surface (a mesh rendered from all around, VerificationModel::whole_surface) is seen
+/// half at a time: half its area, and half its thickness.
+ModelSignature SignModel(const Cloud& model, float spacing_m, bool whole_surface = false);
 
 /// One place the model may be, camera frame.
 struct Candidate {
   Eigen::Vector3f centre_m = Eigen::Vector3f::Zero();  // the window's weighted centroid
-  float score = 0;  // in [0, 1]: fill x ((1 - w) + w x colour), w = colour_weight
+  /// In [0, 1]: fill x ((1 - s) + s x shape) x ((1 - w) + w x colour), s = shape_weight and
+  /// w = colour_weight.
+  float score = 0;
   /// The window's points against what the model would cover there: the smaller of the two
   /// ratios, 1 when they are equal.
   float fill = 0;
+  /// The window's thickness against the model's (ModelSignature::thickness_m), at most 1.
+  float shape = 1;
   float colour = 1;  // the share of its points whose colour the model has (1 without colour)
   int points = 0;    // coarse points in the window
 };

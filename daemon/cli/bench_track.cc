@@ -239,7 +239,8 @@ int RunBenchTrack(const std::vector<std::string>& argv, std::ostream& out, std::
     Outcome& o = outcomes[index];
     o.processed = true;
     o.reason = at_truth ? "fovea on the truth" : published->Frames().back().fixation.reason;
-    if (d.recognize_ms > 0) o.looked_at_m = d.foveated ? d.fovea_m : truth.centroid_m;
+    if (d.recognize_ms > 0 && (at_truth || d.foveated))  // not for the whole frame
+      o.looked_at_m = at_truth ? truth.centroid_m : d.fovea_m;
     for (const Detection& inst : d.instances) {
       char state[48];
       std::snprintf(state, sizeof state, "%s%s %.2f", o.states.empty() ? "" : ", ",

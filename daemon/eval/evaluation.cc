@@ -123,7 +123,8 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
   std::vector<ModelSignature> signatures(models_.size());
   for (std::size_t m = 0; m < models_.size(); ++m)
     if (described[m] && (lands || visits))
-      signatures[m] = SignModel(described[m]->cloud(), described[m]->scale().spacing_m);
+      signatures[m] = SignModel(described[m]->cloud(), described[m]->scale().spacing_m,
+                                described[m]->verification().whole_surface);
   const auto propose = [&](const Scene& s) {
     Proposed p;
     if (signatures[s.model].radius_m <= 0) return p;

@@ -1,5 +1,6 @@
 // Whole-frame candidates: the target on a cluttered table ranks first, colour tells two
-// like-shaped objects apart, and degenerate frames give no candidate.
+// like-shaped objects apart, thickness a solid from a flat board, and degenerate frames give no
+// candidate.
 #include "core/candidates.h"
 #include "core/model.h"
 #include "core/sim/scenario.h"
@@ -78,6 +79,41 @@ TEST(Candidates, ColourTellsLikeShapesApart) {
                 (both[1].centre_m - object).norm() < 0.1f);
 }
 
+// A flat board as wide and tall as the target, standing face-on beside it, covers as many
+// pixels: by amount alone the two are alike. The target is thick as its model is and ranks
+// first; the board, a centimetre thick, scores a fraction of its fill.
+TEST(Candidates, AFlatBoardOfTheTargetsSizeRanksBelowTheTarget) {
+  const float table = 0.25f;
+  Shape board;
+  board.parts.push_back(Shape::Part::Box({0, 0, 0}, {0.07f, 0.06f, 0.005f}));
+  std::vector<SceneObject> objects(2);
+  objects[0] = {TargetShape(), PoseOnTable(-0.2f, 1.0f, 0.3f, table), 1};
+  objects[1] = {board, PoseOnTable(0.2f, 1.0f, 0.0f, table, 0.06f), 2};
+  const RenderedFrame frame = RenderScene(objects, table, CameraIntrinsics{}, KinectNoise{}, 5);
+  const Cloud model = CutModel(frame, 1, objects[0].pose);
+  const ModelSignature signature = TargetSignature(model);
+  EXPECT_GT(signature.thickness_m, 0.01f);
+  const Eigen::Vector3f target = objects[0].pose.translation(),
+                        flat = objects[1].pose.translation();
+  const auto near = [](const Candidate& c, const Eigen::Vector3f& at) {
+    return (c.centre_m - at).norm() < 0.1f;
+  };
+  const auto candidates = ProposeCandidates(frame.cloud, CameraIntrinsics{}, signature, {});
+  ASSERT_GE(candidates.size(), 2u);
+  EXPECT_TRUE(near(candidates[0], target));
+  EXPECT_GT(candidates[0].shape, 0.8f);
+  const auto on_board = std::find_if(candidates.begin(), candidates.end(),
+                                     [&](const Candidate& c) { return near(c, flat); });
+  ASSERT_NE(on_board, candidates.end());
+  EXPECT_LT(on_board->shape, 0.5f);
+  EXPECT_GT(on_board->fill, 0.5f) << "as many pixels as the target: only its shape tells";
+  CandidateOptions amount_only;
+  amount_only.shape_weight = 0;
+  for (const Candidate& c :
+       ProposeCandidates(frame.cloud, CameraIntrinsics{}, signature, amount_only))
+    EXPECT_EQ(c.shape, 1.0f) << "not looked at";
+}
+
 TEST(Candidates, NothingFromAnUnorganizedOrEmptyFrame) {
   const ModelSignature model = TargetSignature(SyntheticTargetModel(7));
   Cloud flat;
@@ -99,6 +135,10 @@ TEST(Candidates, OptionsAreValidated) {
   o.colour_weight = 1.5f;
   EXPECT_FALSE(o.IsValid(&error));
   EXPECT_NE(error.find("colour_weight"), std::string::npos);
+  o = {};
+  o.shape_weight = -0.1f;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("shape_weight"), std::string::npos);
 }
 
 }  // namespace
