@@ -96,6 +96,10 @@ struct Detection {
   /// points they lie on, in [-1, 1]: printed patterns line up only on the object itself, at its
   /// pose (-1 when not measured: no colour, or a surface too plain on either side to tell).
   float texture_agreement = -1;
+  /// The share of the places just outside its outline where the scene continues its surface
+  /// (ContinuedShare, core/verification.h): near 1 for a patch of a larger surface; -1 when not
+  /// measured (no organized frame).
+  float continued = -1;
   /// How likely the instance is to be the object, in [0, 1], from its verification figures
   /// (calibrated on the cross-capture benchmark, docs/RESULTS.md); -1 when not verified.
   float confidence = -1;

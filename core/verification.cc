@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace saccade {
@@ -34,7 +35,8 @@ bool VerificationOptions::IsValid(std::string* error) const {
       {"verify_min_coverage", min_coverage},
       {"verify_min_depth_ratio", min_depth_ratio},
       {"verify_min_colour_agreement", min_colour_agreement},
-      {"verify_min_confidence", min_confidence}};
+      {"verify_min_confidence", min_confidence},
+      {"verify_max_continued", max_continued}};
   for (const auto& [name, v] : shares)
     if (!(v >= 0 && v <= 1)) return Fail(error, std::string(name) + " must be in [0, 1]");
   return true;
@@ -111,6 +113,7 @@ struct Check {
   float thickness = 0;  // of the inlying model points: sqrt of their least covariance eigenvalue
   int counted = 0;      // model points counted: all, or a whole surface's facing the camera
   float counted_thickness = 0;  // of the counted points
+  float continued = -1;         // ContinuedShare of the counted points, -1 when not measured
   std::vector<int> explained;   // scene points nearest the inlying model points
   std::vector<int> explaining;  // the inlying model points, one per explained scene point
 };
@@ -172,10 +175,13 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   const float tolerance = 2 * o.inlier_distance_m;
   const Eigen::Matrix3f R = c.pose.topLeftCorner<3, 3>();
   std::vector<Eigen::Vector3f> facing;  // the points counted, model frame
+  const bool outline = k && scene.height > 1;
+  std::vector<Eigen::Vector3f> seen;  // the points counted, camera frame, for the outline
   for (std::size_t m = 0; m < n_points; ++m) {
     const Eigen::Vector3f p = (c.pose * model.points[m].getVector3fMap().homogeneous()).head<3>();
     if (!faces_camera(m, p)) continue;
     if (model.whole_surface) facing.push_back(model.points[m].getVector3fMap());
+    if (outline) seen.push_back(p);
     const int j = crop.Nearest(p, o.inlier_distance_m * o.inlier_distance_m).first;
     if (j >= 0) {
       ++c.inliers;
@@ -201,7 +207,25 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   c.thickness = Thickness(on_surface);
   c.counted = model.whole_surface ? int(facing.size()) : int(n_points);
   c.counted_thickness = model.whole_surface ? Thickness(facing) : model.thickness_m;
+  if (outline) c.continued = ContinuedShare(seen, model.spacing_m, scene, *k, tolerance);
   return c;
+}
+
+// The median distance from each point to its nearest other point (0 with fewer than two).
+float MedianSpacing(const Cloud& points) {
+  std::vector<float> nearest;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    float best = std::numeric_limits<float>::infinity();
+    for (std::size_t j = 0; j < points.size(); ++j)
+      if (j != i)
+        best =
+            std::min(best, (points[i].getVector3fMap() - points[j].getVector3fMap()).squaredNorm());
+    if (std::isfinite(best)) nearest.push_back(best);
+  }
+  if (nearest.empty()) return 0;
+  auto mid = nearest.begin() + nearest.size() / 2;
+  std::nth_element(nearest.begin(), mid, nearest.end());
+  return std::sqrt(*mid);
 }
 
 // Brightness of a point's colour (Rec. 601 luma), 0-255.
@@ -210,6 +234,71 @@ float Luma(const PointT& p) {
 }
 
 }  // namespace
+
+float ContinuedShare(const std::vector<Eigen::Vector3f>& points, float spacing_m,
+                     const Cloud& scene, const CameraIntrinsics& k, float tolerance_m) {
+  if (points.size() < 10 || spacing_m <= 0 || scene.height <= 1) return -1;
+  std::vector<Eigen::Vector3f> uvz;  // pixel column, row, depth
+  double z_sum = 0;
+  for (const Eigen::Vector3f& p : points) {
+    if (!(p.z() > 0.05f)) continue;
+    uvz.emplace_back(float(k.fx) * p.x() / p.z() + float(k.cx),
+                     float(k.fy) * p.y() / p.z() + float(k.cy), p.z());
+    z_sum += p.z();
+  }
+  if (uvz.size() < 10) return -1;
+  // Cells two point spacings wide at the points' mean depth: the points leave no hole inside.
+  const float z_mean = float(z_sum / double(uvz.size()));
+  const float cell = std::max(2.0f, 2.0f * float(std::max(k.fx, k.fy)) * spacing_m / z_mean);
+  Eigen::Vector2f lo = uvz.front().head<2>(), hi = lo;
+  for (const Eigen::Vector3f& q : uvz) lo = lo.cwiseMin(q.head<2>()), hi = hi.cwiseMax(q.head<2>());
+  const Eigen::Vector2f origin = lo - Eigen::Vector2f::Constant(2 * cell);
+  const int w = int((hi.x() - lo.x()) / cell) + 5, h = int((hi.y() - lo.y()) / cell) + 5;
+  if (w > 1024 || h > 1024) return -1;  // a pose far off the frame's scale
+  constexpr float kNone = std::numeric_limits<float>::infinity();
+  std::vector<float> depth(std::size_t(w) * std::size_t(h), kNone);  // nearest point per cell
+  const auto at = [&](int x, int y) { return std::size_t(y) * std::size_t(w) + std::size_t(x); };
+  for (const Eigen::Vector3f& q : uvz) {
+    const int x = int((q.x() - origin.x()) / cell), y = int((q.y() - origin.y()) / cell);
+    depth[at(x, y)] = std::min(depth[at(x, y)], q.z());
+  }
+  // Inside: a cell with points, or between two cells with points (a hole of one cell).
+  const auto has = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && depth[at(x, y)] < kNone;
+  };
+  std::vector<std::uint8_t> inside(depth.size(), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      inside[at(x, y)] =
+          has(x, y) || (has(x - 1, y) && has(x + 1, y)) || (has(x, y - 1) && has(x, y + 1));
+  const auto in = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && inside[at(x, y)];
+  };
+  int continued = 0, outline = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (in(x, y) || !(in(x - 1, y) || in(x + 1, y) || in(x, y - 1) || in(x, y + 1))) continue;
+      float z = kNone;  // the depth of the nearest points beside this place
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (has(x + dx, y + dy)) z = std::min(z, depth[at(x + dx, y + dy)]);
+      if (z == kNone) continue;
+      const int u = int(origin.x() + (float(x) + 0.5f) * cell);
+      const int v = int(origin.y() + (float(y) + 0.5f) * cell);
+      if (u < 0 || v < 0 || u >= int(scene.width) || v >= int(scene.height)) continue;
+      const float seen = scene.at(u, v).z;
+      if (!std::isfinite(seen)) {
+        ++outline;  // nothing seen there: a shadow or a silhouette's edge
+      } else if (seen < z - tolerance_m) {
+        continue;  // something in front: it says nothing of the outline
+      } else if (seen <= z + tolerance_m) {
+        ++continued;
+      } else {
+        ++outline;  // the sensor sees past the points
+      }
+    }
+  return continued + outline > 0 ? float(continued) / float(continued + outline) : -1;
+}
 
 float TextureAgreement(const Cloud& model, const std::vector<int>& model_points, const Cloud& scene,
                        const std::vector<int>& scene_points) {
@@ -261,6 +350,8 @@ const char* VerdictName(Verdict v) {
       return "no_fit";
     case Verdict::kFlat:
       return "flat";
+    case Verdict::kNoOutline:
+      return "no_outline";
     case Verdict::kColour:
       return "colour";
     case Verdict::kUnconfident:
@@ -291,6 +382,7 @@ VerificationModel MakeVerificationModel(const Cloud& model,
   std::vector<Eigen::Vector3f> all;
   for (const PointT& p : out.points) all.push_back(p.getVector3fMap());
   out.thickness_m = Thickness(all);
+  out.spacing_m = MedianSpacing(out.points);
   return out;
 }
 
@@ -324,6 +416,9 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
     if (d.fitness < options.min_fitness || d.coverage < options.min_coverage) continue;
     verdict[i] = Verdict::kFlat;
     if (c.thickness < options.min_depth_ratio * c.counted_thickness) continue;
+    d.continued = c.continued;
+    verdict[i] = Verdict::kNoOutline;
+    if (c.continued > options.max_continued) continue;
     verdict[i] = Verdict::kColour;
     if (colour) {
       // The same surface on both sides: the model points on the scene and the points they lie

@@ -44,6 +44,11 @@ struct VerificationOptions {
   float min_confidence = 0.5f;
   /// A camera-facing model point this far or less behind the seen surface is sunk into it.
   float max_sink_m = 0.05f;
+  /// Kept when at most this share of the places just outside the instance's outline (as the
+  /// pose projects it into an organized frame) continue its surface at its depth: an object has
+  /// an outline where the sensor sees past it or sees nothing, a patch of a wall, a board or a
+  /// larger object has none. 1: not checked.
+  float max_continued = 1.0f;
 
   bool IsValid(std::string* error) const;
   bool operator==(const VerificationOptions& o) const { return SameFields(*this, o); }
@@ -65,6 +70,7 @@ struct VerificationOptions {
     a->Visit("verify_min_confidence", &min_confidence);
     a->Visit("verify_colour", &use_colour);
     a->Visit("verify_max_sink_m", &max_sink_m);
+    a->Visit("verify_max_continued", &max_continued);
   }
 };
 
@@ -86,6 +92,8 @@ struct VerificationModel {
   /// rendered mesh, whose normals are exact; 0 for captured views, whose estimated normals a cut
   /// would misjudge (docs/RESULTS.md, "Symmetric models").
   float min_facing = 0;
+  /// The median distance between neighbouring `points`: how finely they cover the model.
+  float spacing_m = 0;
 };
 
 /// At most `max_points` of the model's finite points; `normals` are per model point (NaN where
@@ -117,10 +125,19 @@ enum class Verdict {
   kNoFit,          // fitness or coverage too low
   kFlat,           // the points on the surface are flatter than the model
   kColour,         // the colours of the explained scene points disagree
+  kNoOutline,      // the scene's surface continues past its outline (max_continued)
   kUnconfident,    // its confidence is below min_confidence
   kTakenByBetter,  // a better instance already explains its points or overlaps it
 };
 const char* VerdictName(Verdict v);
+
+/// The share of the places just outside the outline of `points` (camera frame, projected with
+/// `k` into the organized `scene`, spaced about `spacing_m` apart) where the scene continues
+/// their surface: within `tolerance_m` of the depth of the nearest of them. A place where the
+/// sensor sees past them or sees nothing is an outline; one in front of them (an occluder) is
+/// not counted. -1 when there is nothing to count.
+float ContinuedShare(const std::vector<Eigen::Vector3f>& points, float spacing_m,
+                     const Cloud& scene, const CameraIntrinsics& k, float tolerance_m);
 
 /// Refines and filters `instances` (poses of the model in `scene`), returning the kept ones,
 /// best first, each with its fitness, coverage and colour agreement set. With intrinsics (an

@@ -80,8 +80,8 @@ CaseStage DiagnoseCase(const CaseEvidence& e, bool has_truth_pose) {
            e.true_hypotheses.end();
   };
   if (any(Verdict::kTakenByBetter) || any(Verdict::kKept)) return CaseStage::kOutranked;
-  if (any(Verdict::kNoFit) || any(Verdict::kFlat) || any(Verdict::kColour) ||
-      any(Verdict::kUnconfident))
+  if (any(Verdict::kNoFit) || any(Verdict::kFlat) || any(Verdict::kNoOutline) ||
+      any(Verdict::kColour) || any(Verdict::kUnconfident))
     return CaseStage::kRejected;
   return CaseStage::kNotVerified;
 }

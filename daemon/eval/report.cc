@@ -345,7 +345,7 @@ void CaseReport::WriteReliability(std::ostream& md) const {
 // Every reported instance with its figures: what a confidence is calibrated on.
 void CaseReport::WriteInstances(std::ostream& inst) const {
   inst << "configuration,protocol,case,identity,feasible,rank,true,votes,fitness,coverage,"
-          "colour_agreement,confidence,texture,texture_agreement\n";
+          "colour_agreement,confidence,texture,texture_agreement,continued\n";
   for (std::size_t c = 0; c < runs_.size(); ++c)
     for (const ProtocolRun& run : runs_[c])
       for (std::size_t i = 0; i < scenes_.size(); ++i)
@@ -357,7 +357,7 @@ void CaseReport::WriteInstances(std::ostream& inst) const {
                << d.votes << ',' << d.fitness << ',' << d.coverage << ',' << d.colour_agreement
                << ',' << d.confidence << ','
                << (k < run.trials[i].texture.size() ? run.trials[i].texture[k] : -1) << ','
-               << d.texture_agreement << "\n";
+               << d.texture_agreement << ',' << d.continued << "\n";
         }
 }
 

@@ -51,6 +51,32 @@ TEST(VerifyInstances, OnTheSyntheticKinectKeepsTheTruePoseAndSaysWhyTheOthersWen
   EXPECT_EQ(verdicts[2], Verdict::kNoFit) << VerdictName(verdicts[2]);  // in front of the surface
 }
 
+// A 10 cm square of points 1 m ahead, 5 mm apart, against scenes that differ only around it.
+TEST(ContinuedShare, APatchOfAWallHasNoOutlineAndAnObjectHasOne) {
+  const CameraIntrinsics k;
+  std::vector<Eigen::Vector3f> square;
+  for (float x = -0.05f; x <= 0.05f; x += 0.005f)
+    for (float y = -0.05f; y <= 0.05f; y += 0.005f) square.emplace_back(x, y, 1.0f);
+  // The scene: the square's own depth where it projects, `around` elsewhere (NaN: no return).
+  const auto scene = [&](float around) {
+    Cloud c(k.width, k.height);
+    const Eigen::Vector2d lo = k.Project({-0.05f, -0.05f, 1}), hi = k.Project({0.05f, 0.05f, 1});
+    for (int v = 0; v < k.height; ++v)
+      for (int u = 0; u < k.width; ++u) {
+        const bool on = u >= lo.x() && u <= hi.x() && v >= lo.y() && v <= hi.y();
+        const float z = on ? 1.0f : around;
+        c.at(u, v).getVector3fMap() = k.Unproject(u, v, 1.0f) * (std::isfinite(z) ? z : NAN);
+      }
+    return c;
+  };
+  const float tolerance = 0.016f;
+  EXPECT_FLOAT_EQ(ContinuedShare(square, 0.005f, scene(1.0f), k, tolerance), 1.0f);   // a wall
+  EXPECT_FLOAT_EQ(ContinuedShare(square, 0.005f, scene(1.5f), k, tolerance), 0.0f);   // seen past
+  EXPECT_FLOAT_EQ(ContinuedShare(square, 0.005f, scene(NAN), k, tolerance), 0.0f);    // nothing
+  EXPECT_FLOAT_EQ(ContinuedShare(square, 0.005f, scene(0.6f), k, tolerance), -1.0f);  // in front
+  EXPECT_FLOAT_EQ(ContinuedShare({}, 0.005f, scene(1.0f), k, tolerance), -1.0f);
+}
+
 TEST(InstanceConfidence, RisesWithEachFigureAndStaysAProbability) {
   Detection d;
   d.votes = 10, d.fitness = 0.9f, d.coverage = 0.7f, d.colour_agreement = 0.6f;
