@@ -417,8 +417,6 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
     verdict[i] = Verdict::kFlat;
     if (c.thickness < options.min_depth_ratio * c.counted_thickness) continue;
     d.continued = c.continued;
-    verdict[i] = Verdict::kNoOutline;
-    if (c.continued > options.max_continued) continue;
     verdict[i] = Verdict::kColour;
     if (colour) {
       // The same surface on both sides: the model points on the scene and the points they lie
@@ -442,14 +440,17 @@ std::vector<Detection> VerifyInstances(const VerificationModel& model,
     return instances[a].coverage * instances[a].fitness >
            instances[b].coverage * instances[b].fitness;
   });
-  // One score from all the figures, against the best candidate's surface fit.
+  // One score from all the figures, against the best candidate's surface fit (the outline is
+  // judged after: the confidence was calibrated against every candidate that fits).
   if (!order.empty()) {
     const float best = instances[order.front()].coverage * instances[order.front()].fitness;
     std::vector<std::size_t> confident;
     for (std::size_t i : order) {
       Detection& d = instances[i];
       d.confidence = InstanceConfidence(d, d.coverage * d.fitness / std::max(1e-6f, best));
-      if (d.confidence >= options.min_confidence)
+      if (d.continued > options.max_continued)
+        verdict[i] = Verdict::kNoOutline;
+      else if (d.confidence >= options.min_confidence)
         confident.push_back(i);
       else
         verdict[i] = Verdict::kUnconfident;
