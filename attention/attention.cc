@@ -326,7 +326,7 @@ void Attention::Lost(const std::vector<Eigen::Vector3f>& places, Fixation* next)
   // was last seen, as the paper does: it is likeliest to come back there.
   const bool growing = current_.growth_m > options_.growth_min_m || saccading_;
   if (options_.search == SearchKind::kCandidates && !growing && targets_.empty()) {
-    // A fovea given from outside (the initial one, a command) first lands on the object near it.
+    // A fovea given from outside and not landed by its frame's recognizer (Landed) lands now.
     if (current_.lands && options_.land_on_candidate_m > 0 && !places.empty()) {
       const Eigen::Vector3f landed =
           LandGiven(current_, places, options_.land_on_candidate_m, options_.land_stay_m);

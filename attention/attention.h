@@ -125,7 +125,7 @@ class Attention {
   Fixation Update(std::int64_t frame_seq, double time_s, const std::vector<Detection>& sightings,
                   const std::vector<Eigen::Vector3f>& places = {});
   /// A frame foveated at the given fovea `aim_m` (Fixation::lands) was landed by its
-  /// recognizer on `landed_m` (LandOnCandidate over that frame's candidates) and recognized
+  /// recognizer on `landed_m` (LandGiven over that frame's candidates) and recognized
   /// there: the search counts that as its landing. Call before that frame's Update. Ignored
   /// when the landing is done already or the fovea was given again since (a command).
   void Landed(const Eigen::Vector3f& aim_m, const Eigen::Vector3f& landed_m);

@@ -174,8 +174,9 @@ void RecognizeStage::Process(Job* job) {
     q.fovea.growth_m.setZero();
     q.search_phase = 0;
   } else if (job->recognize && LandsNow(c, job->used)) {
-    // A given fovea (the initial one, a command) lands on the object near it in this very
-    // frame: the candidates cost about a millisecond, a frame recognized off the object 33.
+    // A given fovea (the initial one, a reset, a command) lands on the object near it, or a
+    // guess on the frame's best candidate, in this very frame: the candidates cost about a
+    // millisecond, a frame recognized where nothing is 33.
     job->salient = MergedCandidates(*frame.cloud, frame.intrinsics, c.models, c.candidates);
     job->landed_m = LandGiven(job->used, job->salient, c.land_on_candidate_m, c.land_stay_m);
     q.fovea_m = *job->landed_m;
