@@ -187,13 +187,20 @@ TEST(Attention, AnAimedFixationLandsOnTheNearestCandidateWithinReach) {
   EXPECT_TRUE(LandOnCandidate(aim, places, 0.2f, 0.15f).isApprox(aim));
 }
 
-TEST(Attention, AGivenFoveaLandsOnTheNearestCandidateFirst) {
+// Landing within 25 cm, none of it a stay; the best candidate 50 cm from (0, 0, 1), the other
+// 14 cm.
+AttentionOptions LandingOptions() {
   AttentionOptions o;
   o.land_on_candidate_m = 0.25f;
   o.land_stay_m = 0;
-  const std::vector<Eigen::Vector3f> places = {Eigen::Vector3f(0.5f, 0, 1),
-                                               Eigen::Vector3f(0.1f, 0, 1.1f)};
-  Attention a(o, Eigen::Vector3f(0, 0, 1));
+  return o;
+}
+const std::vector<Eigen::Vector3f> kLandingPlaces = {Eigen::Vector3f(0.5f, 0, 1),
+                                                     Eigen::Vector3f(0.1f, 0, 1.1f)};
+
+TEST(Attention, AGivenFoveaLandsOnTheNearestCandidateFirst) {
+  const std::vector<Eigen::Vector3f>& places = kLandingPlaces;
+  Attention a(LandingOptions(), Eigen::Vector3f(0, 0, 1));
   Fixation f = a.Update(1, 0.0, {}, places);
   EXPECT_EQ(f.reason, "landed");
   EXPECT_TRUE(f.fovea_m.isApprox(places[1]));
@@ -226,13 +233,9 @@ TEST(Attention, AGuessedFoveaLandsOnTheBestCandidateAndAnAimedOneStays) {
 // counts that landing, so the next frame visits the next candidate, not the same one again; a
 // landing for a fovea given since (a command) is not this one's.
 TEST(Attention, ALandingMadeByTheFrameIsCountedOnce) {
-  AttentionOptions o;
-  o.land_on_candidate_m = 0.25f;
-  o.land_stay_m = 0;
-  const std::vector<Eigen::Vector3f> places = {Eigen::Vector3f(0.5f, 0, 1),
-                                               Eigen::Vector3f(0.1f, 0, 1.1f)};
+  const std::vector<Eigen::Vector3f>& places = kLandingPlaces;
   const Eigen::Vector3f start(0, 0, 1);
-  Attention a(o, start);
+  Attention a(LandingOptions(), start);
   EXPECT_TRUE(a.current().lands);
   a.Landed(start, places[1]);
   EXPECT_FALSE(a.current().lands);
