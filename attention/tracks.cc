@@ -245,7 +245,7 @@ class TrackSet::Matching {
       Track& t = tracks()[i];
       if (!set_.Held(t) || taken_[i] || !InsideSearch(t)) continue;
       t.frames_since_check = 0;
-      if (ambiguous_[i]) continue;
+      if (ambiguous_[i] || CutOffByTheView(t)) continue;
       if (++t.unconfirmed >= options().unconfirmed_rechecks) {
         t.state = TrackState::kLost;
         t.lost_seq = frame_.seq;
@@ -265,6 +265,21 @@ class TrackSet::Matching {
     return (CentroidOf(t.pose, models_[std::size_t(t.model)].centroid) - d.centroid_m).norm();
   }
   // Whether the frame's recognition looked where track `t` stands.
+  // Whether the image's edge cuts the track's model off (its bounding sphere reaches past
+  // it): recognition cannot confirm an object it sees only part of, and a re-check that does
+  // not find it there says nothing against the track.
+  bool CutOffByTheView(const Track& t) const {
+    const VerificationModel* m = models_[std::size_t(t.model)].points;
+    if (!m || m->radius_m <= 0) return false;
+    const Eigen::Vector3f c = (t.pose * m->centre.homogeneous()).head<3>();
+    const float r = m->radius_m;
+    if (c.z() - r <= 0.05f) return true;
+    const CameraIntrinsics& k = frame_.intrinsics;
+    const Eigen::Vector2d uv = k.Project(c);
+    const double r_px = std::max(k.fx, k.fy) * r / c.z();
+    return uv.x() - r_px < 0 || uv.y() - r_px < 0 || uv.x() + r_px >= k.width ||
+           uv.y() + r_px >= k.height;
+  }
   bool InsideSearch(const Track& t) const {
     if (frame_.sweep) return false;  // a sweep's window need not hold the tracks
     const std::vector<bool>& ran = frame_.recognized_models;

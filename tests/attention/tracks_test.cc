@@ -257,6 +257,32 @@ TEST(TrackSet, ATrackRecognitionDoesNotConfirmIsLostAfterTheConfiguredRechecks) 
   EXPECT_EQ(events, "track 0 lost (not confirmed by 2 re-checks)");
 }
 
+// An object the image's edge cuts off: recognition cannot confirm what it sees only part of,
+// so re-checks that miss it there do not lose the track tracking holds.
+TEST(TrackSet, ARecheckDoesNotCountAgainstAnObjectTheEdgeCutsOff) {
+  const Demo& d = TheDemo();
+  TrackingOptions o;
+  o.unconfirmed_rechecks = 2;
+  TrackSet tracks(o);
+  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  // The same frame with its columns right of the object's centre cut away.
+  const CameraIntrinsics k;
+  const int edge = int(k.Project(d.demo.truth * d.model->centroid()).x()) + 10;
+  Cloud cut(edge, d.demo.scene.cloud.height);
+  for (int v = 0; v < int(cut.height); ++v)
+    for (int u = 0; u < edge; ++u) cut.at(u, v) = d.demo.scene.cloud.at(u, v);
+  std::vector<Detection> out;
+  for (std::int64_t seq = 2; seq <= 4; ++seq) {
+    TrackFrame f = d.Frame(seq, cut, true);
+    f.intrinsics.width = edge;
+    std::string events;
+    out = tracks.Update(f, d.Models(), {}, &events);
+    EXPECT_EQ(events.find("not confirmed"), std::string::npos) << events;
+  }
+  EXPECT_EQ(out.at(0).track_state, TrackState::kTracking);
+}
+
 TEST(TrackSet, AJustFoundTrackThatTheNextRecheckDoesNotFindIsLost) {
   const Demo& d = TheDemo();
   TrackSet tracks(TrackingOptions{});
