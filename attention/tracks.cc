@@ -271,7 +271,7 @@ class TrackSet::Matching {
   bool CutOffByTheView(const Track& t) const {
     const VerificationModel* m = models_[std::size_t(t.model)].points;
     if (!m || m->radius_m <= 0) return false;
-    const Eigen::Vector3f c = (t.pose * m->centre.homogeneous()).head<3>();
+    const Eigen::Vector3f c = CentroidOf(t.pose, m->centre);  // of its bounding box
     const float r = m->radius_m;
     if (c.z() - r <= 0.05f) return true;
     const CameraIntrinsics& k = frame_.intrinsics;

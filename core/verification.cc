@@ -263,17 +263,14 @@ float ContinuedShare(const std::vector<Eigen::Vector3f>& points, float spacing_m
     depth[at(x, y)] = std::min(depth[at(x, y)], q.z());
   }
   // Inside: a cell with points, or between two cells with points (a hole of one cell).
-  const auto has = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < w && y < h && depth[at(x, y)] < kNone;
-  };
+  const auto on_grid = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h; };
+  const auto has = [&](int x, int y) { return on_grid(x, y) && depth[at(x, y)] < kNone; };
   std::vector<std::uint8_t> inside(depth.size(), 0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       inside[at(x, y)] =
           has(x, y) || (has(x - 1, y) && has(x + 1, y)) || (has(x, y - 1) && has(x, y + 1));
-  const auto in = [&](int x, int y) {
-    return x >= 0 && y >= 0 && x < w && y < h && inside[at(x, y)];
-  };
+  const auto in = [&](int x, int y) { return on_grid(x, y) && inside[at(x, y)]; };
   int continued = 0, outline = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {

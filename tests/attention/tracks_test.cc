@@ -48,10 +48,14 @@ struct Demo : testing::DescribedDemo {
     f.searched_half_m = 0.25f;
     return f;
   }
-  /// Found on frame 0, confirmed on frame 1, lost on frame 2 (the object's pixels emptied).
-  void FindThenLose(TrackSet* tracks) const {
+  /// Found on frame 0, confirmed on frame 1.
+  void FindAndConfirm(TrackSet* tracks) const {
     tracks->Update(Frame(0, demo.scene.cloud, true), Models(), {Found()}, nullptr);
     tracks->Update(Frame(1, demo.scene.cloud, true), Models(), {Found()}, nullptr);
+  }
+  /// ...then lost on frame 2 (the object's pixels emptied).
+  void FindThenLose(TrackSet* tracks) const {
+    FindAndConfirm(tracks);
     tracks->Update(Frame(2, empty, false), Models(), {}, nullptr);
   }
   Cloud empty;
@@ -246,8 +250,7 @@ TEST(TrackSet, ATrackRecognitionDoesNotConfirmIsLostAfterTheConfiguredRechecks) 
   TrackingOptions o;
   o.unconfirmed_rechecks = 2;
   TrackSet tracks(o);
-  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
-  tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  d.FindAndConfirm(&tracks);
   std::vector<Detection> out =
       tracks.Update(d.Frame(2, d.demo.scene.cloud, true), d.Models(), {}, nullptr);
   EXPECT_EQ(out.at(0).track_state, TrackState::kTracking);  // one miss: recognition misses
@@ -264,8 +267,7 @@ TEST(TrackSet, ARecheckDoesNotCountAgainstAnObjectTheEdgeCutsOff) {
   TrackingOptions o;
   o.unconfirmed_rechecks = 2;
   TrackSet tracks(o);
-  tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
-  tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
+  d.FindAndConfirm(&tracks);
   // The same frame with its columns right of the object's centre cut away.
   const CameraIntrinsics k;
   const int edge = int(k.Project(d.demo.truth * d.model->centroid()).x()) + 10;
