@@ -11,6 +11,7 @@
 #include <optional>
 #include <random>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace saccade {
 
@@ -29,6 +30,8 @@ bool CandidateOptions::IsValid(std::string* error) const {
     return Fail(error, "colour_weight must be in [0, 1]");
   if (!std::isfinite(shape_weight) || shape_weight < 0 || shape_weight > 1)
     return Fail(error, "shape_weight must be in [0, 1]");
+  if (!std::isfinite(apart_weight) || apart_weight < 0 || apart_weight > 1)
+    return Fail(error, "apart_weight must be in [0, 1]");
   return true;
 }
 
@@ -36,6 +39,9 @@ namespace {
 
 // A bin of the model's histogram holding this share of its points or more is fully its colour.
 constexpr float kFullColourShare = 1.0f / 32;
+// A whole surface's silhouette is drawn on cells this many point spacings across: wide enough
+// that its points leave no holes, narrow enough to add little at its outline.
+constexpr float kSilhouetteCells = 1.5f;
 
 struct Sample {
   Eigen::Vector3f p;
@@ -121,7 +127,60 @@ std::int64_t CellKey(int x, int y, int z) {
 
 }  // namespace
 
-ModelSignature SignModel(const Cloud& model, float spacing_m, bool whole_surface) {
+namespace {
+
+// What a whole surface shows from one side: the area of its silhouette and the thickness of the
+// part a depth sensor returns of it.
+struct SideView {
+  float area_m2 = 0;
+  float thickness_m = 0;
+};
+
+// The model seen along `sides` directions spread evenly over the sphere. The silhouette: the
+// cloud's points projected across the direction onto cells of `cell_m`. The surface seen: the
+// points of `surface` whose normals face the viewer at least as squarely as a sensor needs
+// (VerificationModel::min_facing; a face seen nearly edge-on returns little).
+std::vector<SideView> LookFromAllSides(const Cloud& cloud, const VerificationModel& surface,
+                                       float cell_m, int sides) {
+  std::vector<SideView> out;
+  const float golden = float(M_PI) * (3.0f - std::sqrt(5.0f));
+  const float facing = std::max(0.0f, surface.min_facing);
+  std::unordered_set<std::int64_t> covered;
+  for (int i = 0; i < sides; ++i) {
+    const float z = 1.0f - 2.0f * (float(i) + 0.5f) / float(sides);
+    const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    const Eigen::Vector3f d(r * std::cos(golden * float(i)), r * std::sin(golden * float(i)), z);
+    const Eigen::Vector3f u = d.unitOrthogonal(), v = d.cross(u);
+    covered.clear();
+    for (const PointT& p : cloud)
+      if (FinitePoint(p))
+        covered.insert(CellKey(int(std::floor(p.getVector3fMap().dot(u) / cell_m)),
+                               int(std::floor(p.getVector3fMap().dot(v) / cell_m)), 0));
+    int n = 0;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    for (std::size_t k = 0; k < surface.points.size() && k < surface.normals.size(); ++k) {
+      if (!(-surface.normals[k].dot(d) > facing)) continue;  // d points away from the viewer
+      const Eigen::Vector3d q = surface.points[k].getVector3fMap().cast<double>();
+      ++n;
+      sum += q;
+      outer += q * q.transpose();
+    }
+    out.push_back({float(covered.size()) * cell_m * cell_m, Thickness(n, sum, outer)});
+  }
+  return out;
+}
+
+// The value at `share` of the way through `values` (sorted here).
+float Quantile(std::vector<float> values, float share) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  return values[std::size_t(share * float(values.size() - 1) + 0.5f)];
+}
+
+}  // namespace
+
+ModelSignature SignModel(const Cloud& model, float spacing_m, const VerificationModel* surface) {
   ModelSignature s;
   Box box{Eigen::Vector3f::Constant(INFINITY), Eigen::Vector3f::Constant(-INFINITY)};
   int finite = 0, coloured = 0;
@@ -140,13 +199,26 @@ ModelSignature SignModel(const Cloud& model, float spacing_m, bool whole_surface
   }
   if (finite == 0) return s;
   s.radius_m = 0.5f * box.Size().norm();
-  const float seen_share = whole_surface ? 0.5f : 1.0f;
-  s.seen_area_m2 = seen_share * float(finite) * spacing_m * spacing_m;
-  s.thickness_m = seen_share * Thickness(finite, sum, outer);
+  s.seen_area_m2 = float(finite) * spacing_m * spacing_m;
+  s.thickness_m = Thickness(finite, sum, outer);
+  s.seen_area_min_m2 = s.seen_area_max_m2 = s.seen_area_m2;
+  if (surface && surface->whole_surface) {
+    constexpr int kSides = 64;
+    const std::vector<SideView> sides =
+        LookFromAllSides(model, *surface, std::max(1e-4f, kSilhouetteCells * spacing_m), kSides);
+    std::vector<float> areas, thicknesses;
+    for (const SideView& v : sides)
+      areas.push_back(v.area_m2), thicknesses.push_back(v.thickness_m);
+    s.seen_area_min_m2 = Quantile(areas, 0.0f);
+    s.seen_area_m2 = Quantile(areas, 0.5f);
+    s.seen_area_max_m2 = Quantile(areas, 1.0f);
+    s.thickness_m = Quantile(thicknesses, 0.5f);
+    s.silhouettes = true;
+  }
   // A model without colour reads as all black: every point too dark for a chromaticity.
   float counted = 0;
   for (float v : s.colour) counted += v;
-  s.coloured = coloured > 0 && counted >= 0.2f * float(finite);
+  s.coloured = coloured > 0 && counted >= 0.2f * float(finite) && !MaterialGreys(model);
   Normalize(&s.colour);
   return s;
 }
@@ -218,15 +290,32 @@ std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraInt
     const Eigen::Vector3d q = s.p.cast<double>();
     cell.outer += q * q.transpose();
   }
-  std::vector<std::array<int, 3>> offsets;
+  // A window: the cells within 2 of its centre; its shell: those from 2 to 2.83 away.
+  std::vector<std::array<int, 3>> offsets, shell;
   for (int dx = -2; dx <= 2; ++dx)
     for (int dy = -2; dy <= 2; ++dy)
-      for (int dz = -2; dz <= 2; ++dz)
-        if (dx * dx + dy * dy + dz * dz <= 4) offsets.push_back({dx, dy, dz});
+      for (int dz = -2; dz <= 2; ++dz) {
+        const int d2 = dx * dx + dy * dy + dz * dz;
+        (d2 <= 4 ? offsets : shell).push_back({dx, dy, dz});
+      }
+  shell.erase(std::remove_if(shell.begin(), shell.end(),
+                             [](const std::array<int, 3>& d) {
+                               return d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 8;
+                             }),
+              shell.end());
   // A coarse sample at depth z stands for (stride z / f)^2 of surface facing the camera.
   const float focal = float(0.5 * (intrinsics.fx + intrinsics.fy)) / float(o.stride_px);
   const float cw = colour ? o.colour_weight : 0.0f;
   const float sw = model.thickness_m > 0 ? o.shape_weight : 0.0f;
+  // An object on the table loses a strip of plane_distance_m off its bottom with the table: a
+  // silhouette as wide as it is tall, the square root of its area.
+  const float least_area =
+      plane && model.silhouettes
+          ? std::max(
+                0.5f * model.seen_area_min_m2,
+                model.seen_area_min_m2 - o.plane_distance_m * std::sqrt(model.seen_area_min_m2))
+          : model.seen_area_min_m2;
+  const float aw = o.apart_weight;
   std::vector<Candidate> windows;
   windows.reserve(coords.size());
   for (const auto& c : coords) {
@@ -243,16 +332,26 @@ std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraInt
     Candidate k;
     k.points = w.points;
     const Eigen::Vector3f mean = w.sum / float(w.points);
-    const float expected =
-        std::max(1.0f, model.seen_area_m2 * (focal / mean.z()) * (focal / mean.z()));
-    // As much as the model would cover there: a smaller object, or a part of a larger one
-    // (whose window holds more), matches less.
-    k.fill = std::min(float(w.points) / expected, expected / float(w.points));
+    const float pixels_per_m2 = (focal / mean.z()) * (focal / mean.z());
+    const float least = std::max(1.0f, least_area * pixels_per_m2);
+    const float most = std::max(least, model.seen_area_max_m2 * pixels_per_m2);
+    // As much as the model would cover there from some side: a smaller object, or a part of a
+    // larger one (whose window holds more), matches less.
+    k.fill = std::min({1.0f, float(w.points) / least, most / float(w.points)});
     k.colour = w.weight / float(w.points);
     if (sw > 0)
       k.shape =
           std::min(1.0f, Thickness(w.points, w.sum.cast<double>(), w.outer) / model.thickness_m);
-    k.score = k.fill * ((1 - sw) + sw * k.shape) * ((1 - cw) + cw * k.colour);
+    if (aw > 0) {
+      int around = 0;
+      for (const auto& d : shell) {
+        const auto it = cells.find(CellKey(c[0] + d[0], c[1] + d[1], c[2] + d[2]));
+        if (it != cells.end()) around += it->second.points;
+      }
+      k.apart = std::max(0.0f, 1.0f - float(around) / float(w.points));
+    }
+    k.score =
+        k.fill * ((1 - sw) + sw * k.shape) * ((1 - cw) + cw * k.colour) * ((1 - aw) + aw * k.apart);
     k.centre_m = w.weight > 0 ? Eigen::Vector3f(w.weighted / w.weight) : mean;
     windows.push_back(k);
   }

@@ -12,6 +12,7 @@
 #include "core/colour.h"
 #include "core/schema.h"
 #include "core/types.h"
+#include "core/verification.h"
 
 #include <cstdint>
 #include <string>
@@ -34,6 +35,10 @@ struct CandidateOptions {
   /// Thickness's share of a candidate's score: a window thinner than the model (its points'
   /// spread across their flattest direction) scores less, in proportion (0: not looked at).
   float shape_weight = 0.5f;
+  /// Standing apart's share of a candidate's score: a window whose surroundings (the shell just
+  /// outside it) hold as many points as it does, a patch of something larger, scores less, in
+  /// proportion (0: not looked at).
+  float apart_weight = 0.0f;
   std::uint32_t seed = 1;  // RANSAC's: the same frame gives the same candidates
 
   bool IsValid(std::string* error) const;
@@ -49,6 +54,7 @@ struct CandidateOptions {
     a->Visit("max_candidates", &max_candidates);
     a->Visit("colour_weight", &colour_weight);
     a->Visit("shape_weight", &shape_weight);
+    a->Visit("apart_weight", &apart_weight);
   }
 };
 
@@ -58,6 +64,13 @@ struct ModelSignature {
   /// The area the sensor sees of it (its points times the square of their median spacing):
   /// what a window at depth z should hold, in pixels, is area * (f / z)^2.
   float seen_area_m2 = 0;
+  /// The range of areas a window may hold and still be the model: a whole surface looks larger
+  /// from some sides than from others (a cube face-on against corner-on). Both equal
+  /// seen_area_m2 for a model captured from one side.
+  float seen_area_min_m2 = 0, seen_area_max_m2 = 0;
+  /// The areas are a whole surface's silhouettes, the object entire; a captured model's are
+  /// what its capture kept of it.
+  bool silhouettes = false;
   ColourHistogram colour{};  // normalized; meaningful when `coloured`
   bool coloured = false;
   /// How thick the model is as the sensor sees it: the root of its points' least covariance
@@ -66,15 +79,17 @@ struct ModelSignature {
 };
 
 /// The signature of a model cloud whose median point spacing is `spacing_m` (ModelScale). A
-/// whole surface (a mesh rendered from all around, VerificationModel::whole_surface) is seen
-/// half at a time: half its area, and half its thickness.
-ModelSignature SignModel(const Cloud& model, float spacing_m, bool whole_surface = false);
+/// whole surface (`surface` given and VerificationModel::whole_surface: a mesh, or captures of
+/// several sides) is looked at from 64 sides: a window may hold the area of any side's
+/// silhouette, and be as thin as the flattest side's facing points (a box seen face-on).
+ModelSignature SignModel(const Cloud& model, float spacing_m,
+                         const VerificationModel* surface = nullptr);
 
 /// One place the model may be, camera frame.
 struct Candidate {
   Eigen::Vector3f centre_m = Eigen::Vector3f::Zero();  // the window's weighted centroid
-  /// In [0, 1]: fill x ((1 - s) + s x shape) x ((1 - w) + w x colour), s = shape_weight and
-  /// w = colour_weight.
+  /// In [0, 1]: fill x ((1 - s) + s x shape) x ((1 - w) + w x colour) x ((1 - a) + a x apart),
+  /// s = shape_weight, w = colour_weight and a = apart_weight.
   float score = 0;
   /// The window's points against what the model would cover there: the smaller of the two
   /// ratios, 1 when they are equal.
@@ -82,7 +97,9 @@ struct Candidate {
   /// The window's thickness against the model's (ModelSignature::thickness_m), at most 1.
   float shape = 1;
   float colour = 1;  // the share of its points whose colour the model has (1 without colour)
-  int points = 0;    // coarse points in the window
+  /// 1 - the points of the shell just outside the window over the window's, at least 0.
+  float apart = 1;
+  int points = 0;  // coarse points in the window
 };
 
 struct CandidateStats {

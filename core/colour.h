@@ -43,4 +43,13 @@ inline float Intersection(const ColourHistogram& a, const ColourHistogram& b) {
   return s;
 }
 
+/// True when nine in ten of the cloud's points or more are exact greys (r = g = b): a mesh's
+/// material colours. They say nothing of the chromaticity a camera will see of the object (its
+/// white balance, its print), so such a model is looked for and verified on geometry alone.
+inline bool MaterialGreys(const Cloud& cloud) {
+  std::size_t grey = 0;
+  for (const PointT& p : cloud.points) grey += p.r == p.g && p.g == p.b;
+  return !cloud.empty() && grey * 10 >= cloud.size() * 9;
+}
+
 }  // namespace saccade

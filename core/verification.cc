@@ -375,7 +375,7 @@ VerificationModel MakeVerificationModel(const Cloud& model,
   const Box box = *BoundingBox(model);  // some point is finite
   out.centre = (box.min + box.max) / 2;
   out.radius_m = box.Size().norm() / 2;
-  out.coloured = HasColour(model);
+  out.coloured = HasColour(model) && !MaterialGreys(model);
   std::vector<Eigen::Vector3f> all;
   for (const PointT& p : out.points) all.push_back(p.getVector3fMap());
   out.thickness_m = Thickness(all);

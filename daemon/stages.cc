@@ -106,7 +106,7 @@ std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
       return std::nullopt;
     }
     const ModelSignature signature =
-        SignModel(d->cloud(), d->scale().spacing_m, d->verification().whole_surface);
+        SignModel(d->cloud(), d->scale().spacing_m, &d->verification());
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
     for (const PointT& p : d->cloud())
       if (FinitePoint(p))

@@ -1,6 +1,7 @@
 #include "daemon/cli/commands.h"
 #include "daemon/cli/progress.h"
 
+#include "core/candidates.h"
 #include "core/eval/reference_pipeline.h"
 #include "core/fail.h"
 #include "core/features.h"
@@ -153,6 +154,38 @@ void PrintResult(const RecognitionResult& r, const ModelDescription& model,
   out << "\n";
 }
 
+// The places saccaded's search would look at for the model in an organized scene, best first,
+// with what scored each (core/candidates.h, with the candidates section's defaults).
+int PrintCandidates(const ModelDescription& model, const Cloud& scene, const std::string& where,
+                    std::ostream& out, std::ostream& err) {
+  const std::optional<CameraIntrinsics> camera = EstimateIntrinsics(scene);
+  if (!camera) {
+    err << "saccade recognize: " << where
+        << ": --candidates needs an organized scene (one point per pixel)\n";
+    return kExitFailure;
+  }
+  const ModelSignature signature =
+      SignModel(model.cloud(), model.scale().spacing_m, &model.verification());
+  CandidateStats stats;
+  const std::vector<Candidate> candidates =
+      ProposeCandidates(scene, *camera, signature, CandidateOptions{}, &stats);
+  out << std::fixed << std::setprecision(3) << "model: radius " << signature.radius_m
+      << " m, seen area " << signature.seen_area_m2 << " m2 (" << signature.seen_area_min_m2 << "-"
+      << signature.seen_area_max_m2 << "), thickness " << signature.thickness_m << " m"
+      << (signature.coloured ? ", coloured" : "") << "\n"
+      << candidates.size() << " candidate(s) of " << stats.coarse_points << " coarse points ("
+      << stats.above_plane << " off the " << (stats.plane_found ? "table plane" : "frame, no plane")
+      << ")\nrank  centre (m)               score  fill   shape  colour apart  points\n";
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const Candidate& c = candidates[i];
+    out << std::setw(4) << i << "  " << std::setw(6) << c.centre_m.x() << ' ' << std::setw(6)
+        << c.centre_m.y() << ' ' << std::setw(6) << c.centre_m.z() << "    " << c.score << "  "
+        << c.fill << "  " << c.shape << "  " << c.colour << "  " << c.apart << "  " << c.points
+        << "\n";
+  }
+  return kExitOk;
+}
+
 double Median(std::vector<double> v) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
@@ -195,13 +228,16 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
       .Value("threads", "N", "worker threads (default: one per core)")
       .Switch("json", "print one JSON object instead of text")
       .Value("render", "OUT.png",
-             "also draw the scene with each instance's model points, box and confidence");
+             "also draw the scene with each instance's model points, box and confidence")
+      .Switch("candidates",
+              "print instead where saccaded's search would look for the model in this "
+              "organized scene, best first, and what scored each place");
   if (auto code = args.Parse(argv, out, err)) return *code;
   std::string error;
   if (args.Has("render"))
     if (auto code = CheckPngPath(args.Get("render"), "recognize", err)) return *code;
   SceneQuery query;
-  query.foveated = !args.Has("plain");
+  query.foveated = !args.Has("plain") && !args.Has("candidates");
   if (args.Has("fovea")) {
     auto f = Args::ParseVector3(args.Get("fovea"));
     if (!f)
@@ -222,6 +258,8 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
   if (specs.size() > 1) {
     if (args.Has("render"))
       return Usage(err, "recognize", "--render draws one model: give one --model");
+    if (args.Has("candidates"))
+      return Usage(err, "recognize", "--candidates ranks one model's places: give one --model");
     if (auto code = LoadInputs(args, "recognize", &in, err, false)) return *code;
     query.fovea = in.config.fovea;
     return RecognizeLibraryCommand(specs, in.scene, query, in.config.recognition,
@@ -234,6 +272,7 @@ int RunRecognize(const std::vector<std::string>& argv, std::ostream& out, std::o
     err << "saccade recognize: " << args.Get("model") << ": " << error << "\n";
     return kExitFailure;
   }
+  if (args.Has("candidates")) return PrintCandidates(*model, in.scene, args.Get("scene"), out, err);
   const RecognitionResult result = Recognize(*model, in.scene, query, in.config.recognition,
                                              MakeTbbParallelFor(threads), &error);
   if (!error.empty()) {

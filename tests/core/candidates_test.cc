@@ -2,8 +2,10 @@
 // like-shaped objects apart, thickness a solid from a flat board, and degenerate frames give no
 // candidate.
 #include "core/candidates.h"
+#include "core/mesh.h"
 #include "core/model.h"
 #include "core/sim/scenario.h"
+#include "core/sim/synthetic.h"
 
 #include <gtest/gtest.h>
 
@@ -114,6 +116,39 @@ TEST(Candidates, AFlatBoardOfTheTargetsSizeRanksBelowTheTarget) {
     EXPECT_EQ(c.shape, 1.0f) << "not looked at";
 }
 
+// A cube's whole surface (from its mesh) shows a camera one face's area face-on and about 1.7
+// of them corner-on: a window of either amount is the cube's size. Its material greys carry no
+// colour to look for. A cube seen face-on in a frame fills its window, and it stands apart from
+// the table it is on.
+TEST(Candidates, AWholeSurfaceIsAsLargeAsAnyOfItsSides) {
+  const float half = 0.0425f, face = 4 * half * half;
+  const Shape cube{{Shape::Part::Box({0, 0, 0}, {half, half, half})}};
+  MeshModel rendered = RenderMeshModel(ShapeMesh(cube), MeshViewOptions{});
+  for (PointT& p : rendered.points) p.r = p.g = p.b = 120;
+  std::string error;
+  const auto model = DescribeModel(rendered.points, RecognitionOptions{}, &error);
+  ASSERT_TRUE(model) << error;
+  const ModelSignature signature =
+      SignModel(model->cloud(), model->scale().spacing_m, &model->verification());
+  EXPECT_GT(signature.seen_area_min_m2, 0.95f * face);
+  EXPECT_LT(signature.seen_area_min_m2, 1.25f * face);
+  EXPECT_GT(signature.seen_area_max_m2, 1.5f * face);
+  EXPECT_LT(signature.seen_area_max_m2, 1.9f * face);
+  EXPECT_LT(signature.thickness_m, 0.2f * half) << "face-on, a cube is one flat face";
+  EXPECT_FALSE(signature.coloured) << "material greys";
+
+  const float table = 0.25f;
+  const SceneObject facing{cube, PoseOnTable(0.0f, 0.8f, 0.0f, table, half), 1};
+  const RenderedFrame frame = RenderScene({facing}, table, CameraIntrinsics{}, KinectNoise{}, 5);
+  CandidateOptions apart;
+  apart.apart_weight = 1;
+  const auto candidates = ProposeCandidates(frame.cloud, CameraIntrinsics{}, signature, apart);
+  ASSERT_FALSE(candidates.empty());
+  EXPECT_LT((candidates[0].centre_m - facing.pose.translation()).norm(), 0.05f);
+  EXPECT_GT(candidates[0].fill, 0.9f) << "one face's pixels are a side the cube has";
+  EXPECT_GT(candidates[0].apart, 0.8f) << "nothing around it but the table";
+}
+
 TEST(Candidates, NothingFromAnUnorganizedOrEmptyFrame) {
   const ModelSignature model = TargetSignature(SyntheticTargetModel(7));
   Cloud flat;
@@ -135,6 +170,14 @@ TEST(Candidates, OptionsAreValidated) {
   o.colour_weight = 1.5f;
   EXPECT_FALSE(o.IsValid(&error));
   EXPECT_NE(error.find("colour_weight"), std::string::npos);
+  o = {};
+  o.shape_weight = -0.1f;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("shape_weight"), std::string::npos);
+  o = {};
+  o.apart_weight = 2;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("apart_weight"), std::string::npos);
   o = {};
   o.shape_weight = -0.1f;
   EXPECT_FALSE(o.IsValid(&error));

@@ -335,6 +335,35 @@ TEST(Cli, RecognizeWithSeveralModelsNamesEachInstancesModel) {
             2);
 }
 
+// --candidates lists where saccaded's search would look: the can cut from one capture ranks
+// first in another, within 5 cm of its labelled centroid; a scene that is not organized has no
+// pixels to rank and is one line, exit 1.
+TEST(Cli, RecognizeCandidatesRanksTheCanFirstInAnotherCapture) {
+  SACCADE_REQUIRE_DATA("pcl_data/mOSD/test31.pcd");
+  const std::string scene = saccade::testing::DataPath("pcl_data/mOSD/test31.pcd");
+  const std::string can = ::testing::TempDir() + "candidates_can.pcd";
+  ASSERT_EQ(Saccade("segment --scene " + saccade::testing::DataPath("pcl_data/mOSD/test24.pcd") +
+                    " --out " + can)
+                .code,
+            0);
+  const CliRun r = Saccade("recognize --candidates --model " + can + " --scene " + scene);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::string error;
+  const auto labelled = saccade::LoadLabelledCloud(scene, &error);
+  ASSERT_TRUE(labelled) << error;
+  const Eigen::Vector3f truth = saccade::testing::MosdObjectCentroid(*labelled, 4).first;
+  const std::size_t first = r.out.find("\n   0  ");
+  ASSERT_NE(first, std::string::npos) << r.out;
+  Eigen::Vector3f centre;
+  ASSERT_EQ(
+      std::sscanf(r.out.c_str() + first, " 0 %f %f %f", &centre.x(), &centre.y(), &centre.z()), 3)
+      << r.out;
+  EXPECT_LT((centre - truth).norm(), 0.05f) << r.out;
+  const CliRun flat = Saccade("recognize --candidates --model " + can + " --scene " + can);
+  EXPECT_EQ(flat.code, 1);
+  EXPECT_NE(flat.out.find("needs an organized scene"), std::string::npos) << flat.out;
+}
+
 TEST(Cli, DaemonHelpListsItsFlagsSignalsAndExitCodes) {
   const auto help = [](const std::string& flag) {
     const std::string cmd = std::string(SACCADED_BINARY) + " " + flag + " 2>&1";
