@@ -79,9 +79,10 @@ struct ModelSignature {
 };
 
 /// The signature of a model cloud whose median point spacing is `spacing_m` (ModelScale). A
-/// whole surface (`surface` given and VerificationModel::whole_surface: a mesh, or captures of
-/// several sides) is looked at from 64 sides: a window may hold the area of any side's
-/// silhouette, and be as thin as the flattest side's facing points (a box seen face-on).
+/// rendered mesh (`surface` given, whole_surface, its exact normals cut at min_facing > 0) is
+/// looked at from 64 sides: a window may hold the area of any side's silhouette, and is as thick
+/// as the median side's facing points. Captures of several sides are seen half at a time: half
+/// their area and half their thickness (silhouettes lost cases on them, docs/RESULTS.md).
 ModelSignature SignModel(const Cloud& model, float spacing_m,
                          const VerificationModel* surface = nullptr);
 

@@ -117,7 +117,8 @@ TEST(Candidates, AFlatBoardOfTheTargetsSizeRanksBelowTheTarget) {
 }
 
 // A cube's whole surface (from its mesh) shows a camera one face's area face-on and about 1.7
-// of them corner-on: a window of either amount is the cube's size. Its material greys carry no
+// of them corner-on: a window of either amount is the cube's size, and it is as thick as the
+// median side. Its material greys carry no
 // colour to look for. A cube seen face-on in a frame fills its window, and it stands apart from
 // the table it is on.
 TEST(Candidates, AWholeSurfaceIsAsLargeAsAnyOfItsSides) {
@@ -134,7 +135,8 @@ TEST(Candidates, AWholeSurfaceIsAsLargeAsAnyOfItsSides) {
   EXPECT_LT(signature.seen_area_min_m2, 1.25f * face);
   EXPECT_GT(signature.seen_area_max_m2, 1.5f * face);
   EXPECT_LT(signature.seen_area_max_m2, 1.9f * face);
-  EXPECT_LT(signature.thickness_m, 0.2f * half) << "face-on, a cube is one flat face";
+  EXPECT_GT(signature.thickness_m, 0.25f * half) << "the median side shows two faces or three";
+  EXPECT_LT(signature.thickness_m, 0.6f * half);
   EXPECT_FALSE(signature.coloured) << "material greys";
 
   const float table = 0.25f;
