@@ -171,11 +171,9 @@ std::vector<SideView> LookFromAllSides(const Cloud& cloud, const VerificationMod
   return out;
 }
 
-// The value at `share` of the way through `values` (sorted here).
-float Quantile(std::vector<float> values, float share) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  return values[std::size_t(share * float(values.size() - 1) + 0.5f)];
+// The value at `share` of the way through `sorted`.
+float Quantile(const std::vector<float>& sorted, float share) {
+  return sorted.empty() ? 0 : sorted[std::size_t(share * float(sorted.size() - 1) + 0.5f)];
 }
 
 }  // namespace
@@ -215,6 +213,8 @@ ModelSignature SignModel(const Cloud& model, float spacing_m, const Verification
     std::vector<float> areas, thicknesses;
     for (const SideView& v : sides)
       areas.push_back(v.area_m2), thicknesses.push_back(v.thickness_m);
+    std::sort(areas.begin(), areas.end());
+    std::sort(thicknesses.begin(), thicknesses.end());
     s.seen_area_min_m2 = Quantile(areas, 0.0f);
     s.seen_area_m2 = Quantile(areas, 0.5f);
     s.seen_area_max_m2 = Quantile(areas, 1.0f);
@@ -302,13 +302,11 @@ std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraInt
     for (int dy = -2; dy <= 2; ++dy)
       for (int dz = -2; dz <= 2; ++dz) {
         const int d2 = dx * dx + dy * dy + dz * dz;
-        (d2 <= 4 ? offsets : shell).push_back({dx, dy, dz});
+        if (d2 <= 4)
+          offsets.push_back({dx, dy, dz});
+        else if (d2 <= 8)
+          shell.push_back({dx, dy, dz});
       }
-  shell.erase(std::remove_if(shell.begin(), shell.end(),
-                             [](const std::array<int, 3>& d) {
-                               return d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 8;
-                             }),
-              shell.end());
   // A coarse sample at depth z stands for (stride z / f)^2 of surface facing the camera.
   const float focal = float(0.5 * (intrinsics.fx + intrinsics.fy)) / float(o.stride_px);
   const float cw = colour ? o.colour_weight : 0.0f;

@@ -163,27 +163,18 @@ TEST(Candidates, NothingFromAnUnorganizedOrEmptyFrame) {
 
 TEST(Candidates, OptionsAreValidated) {
   std::string error;
-  CandidateOptions o;
-  EXPECT_TRUE(o.IsValid(&error)) << error;
-  o.stride_px = 0;
-  EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_NE(error.find("stride_px"), std::string::npos);
-  o = {};
-  o.colour_weight = 1.5f;
-  EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_NE(error.find("colour_weight"), std::string::npos);
-  o = {};
-  o.shape_weight = -0.1f;
-  EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_NE(error.find("shape_weight"), std::string::npos);
-  o = {};
-  o.apart_weight = 2;
-  EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_NE(error.find("apart_weight"), std::string::npos);
-  o = {};
-  o.shape_weight = -0.1f;
-  EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_NE(error.find("shape_weight"), std::string::npos);
+  EXPECT_TRUE(CandidateOptions{}.IsValid(&error)) << error;
+  // One key out of range: refused, and the error names it.
+  const auto refused = [&](void (*spoil)(CandidateOptions*), const std::string& key) {
+    CandidateOptions o;
+    spoil(&o);
+    EXPECT_FALSE(o.IsValid(&error)) << key;
+    EXPECT_NE(error.find(key), std::string::npos) << error;
+  };
+  refused([](CandidateOptions* o) { o->stride_px = 0; }, "stride_px");
+  refused([](CandidateOptions* o) { o->colour_weight = 1.5f; }, "colour_weight");
+  refused([](CandidateOptions* o) { o->shape_weight = -0.1f; }, "shape_weight");
+  refused([](CandidateOptions* o) { o->apart_weight = 2; }, "apart_weight");
 }
 
 }  // namespace
