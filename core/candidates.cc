@@ -319,7 +319,13 @@ std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraInt
                 0.5f * model.seen_area_min_m2,
                 model.seen_area_min_m2 - o.plane_distance_m * std::sqrt(model.seen_area_min_m2))
           : model.seen_area_min_m2;
-  const float aw = o.apart_weight;
+  // A whole surface's amount says only that a window lies within its sides' range of areas: the
+  // wider that range, the more standing apart has to tell (a one-sided model's share stays
+  // apart_weight).
+  const float aw =
+      model.seen_area_max_m2 > 0
+          ? 1 - (1 - o.apart_weight) * (model.seen_area_min_m2 / model.seen_area_max_m2)
+          : o.apart_weight;
   std::vector<Candidate> windows;
   windows.reserve(coords.size());
   for (const auto& c : coords) {

@@ -37,7 +37,8 @@ struct CandidateOptions {
   float shape_weight = 0.5f;
   /// Standing apart's share of a candidate's score: a window whose surroundings (the shell just
   /// outside it) hold as many points as it does, a patch of something larger, scores less, in
-  /// proportion (0: not looked at).
+  /// proportion (0: not looked at). A model whose sides differ in area (a rendered mesh) gives
+  /// it more: 1 - (1 - apart_weight) x its least side's area over its largest's.
   float apart_weight = 0.0f;
   std::uint32_t seed = 1;  // RANSAC's: the same frame gives the same candidates
 
@@ -90,7 +91,7 @@ ModelSignature SignModel(const Cloud& model, float spacing_m,
 struct Candidate {
   Eigen::Vector3f centre_m = Eigen::Vector3f::Zero();  // the window's weighted centroid
   /// In [0, 1]: fill x ((1 - s) + s x shape) x ((1 - w) + w x colour) x ((1 - a) + a x apart),
-  /// s = shape_weight, w = colour_weight and a = apart_weight.
+  /// s = shape_weight, w = colour_weight and a apart's share (CandidateOptions::apart_weight).
   float score = 0;
   /// The window's points against what the model would cover there: the smaller of the two
   /// ratios, 1 when they are equal.

@@ -151,6 +151,49 @@ TEST(Candidates, AWholeSurfaceIsAsLargeAsAnyOfItsSides) {
   EXPECT_GT(candidates[0].apart, 0.8f) << "nothing around it but the table";
 }
 
+// A mesh's sides range in area (the cube's from one face to nearly two): many places in a frame
+// hold an amount within that range, a part of something larger among them. So the default
+// looks at how much stands around a window by as much as the range is wide. A cube alone and
+// four more in a row, touching, on one table: with the range closed (as a one-sided capture,
+// apart_weight 0, not looked at) the lone cube and a piece of the row score alike; with the
+// mesh's range the lone cube leads by a clear margin.
+TEST(Candidates, AMeshsWideRangeOfAreasLooksAtWhatStandsAround) {
+  const float half = 0.0425f;
+  const Shape cube{{Shape::Part::Box({0, 0, 0}, {half, half, half})}};
+  MeshModel rendered = RenderMeshModel(ShapeMesh(cube), MeshViewOptions{});
+  std::string error;
+  const auto model = DescribeModel(rendered.points, RecognitionOptions{}, &error);
+  ASSERT_TRUE(model) << error;
+  const ModelSignature signature =
+      SignModel(model->cloud(), model->scale().spacing_m, &model->verification());
+  ModelSignature one_sided = signature;
+  one_sided.seen_area_min_m2 = one_sided.seen_area_max_m2 = signature.seen_area_m2;
+
+  const float table = 0.25f;
+  std::vector<SceneObject> objects;
+  objects.push_back({cube, PoseOnTable(-0.3f, 1.0f, 0.4f, table, half), 1});
+  for (int i = 0; i < 4; ++i)
+    objects.push_back(
+        {cube, PoseOnTable(0.05f + 0.09f * float(i), 1.0f, 0.1f * float(i), table, half), 2});
+  const RenderedFrame frame = RenderScene(objects, table, CameraIntrinsics{}, KinectNoise{}, 5);
+  // The lone cube's score and the best elsewhere.
+  const auto lead = [&](const ModelSignature& m) {
+    const auto candidates = ProposeCandidates(frame.cloud, CameraIntrinsics{}, m, {});
+    float lone = 0, row = 0;
+    for (const Candidate& c : candidates) {
+      const bool alone = (c.centre_m - objects[0].pose.translation()).norm() < 0.05f;
+      (alone ? lone : row) = std::max(alone ? lone : row, c.score);
+      if (&m == &one_sided) {
+        EXPECT_EQ(c.apart, 1.0f) << "apart_weight 0: not looked at";
+      }
+    }
+    EXPECT_GT(lone, 0.5f) << "the lone cube is a candidate";
+    return lone - row;
+  };
+  EXPECT_LT(std::abs(lead(one_sided)), 0.05f) << "by amount and thickness, alike";
+  EXPECT_GT(lead(signature), 0.1f) << "the row has more around each of its pieces";
+}
+
 TEST(Candidates, NothingFromAnUnorganizedOrEmptyFrame) {
   const ModelSignature model = TargetSignature(SyntheticTargetModel(7));
   Cloud flat;
