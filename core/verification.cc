@@ -5,6 +5,7 @@
 #include "core/features.h"
 #include "core/foveation.h"
 #include "core/nearest_within.h"
+#include "core/tracking.h"
 
 #include <flann/algorithms/dist.h>
 #include <flann/algorithms/kdtree_single_index.h>
@@ -171,6 +172,14 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
     if ((step.topRightCorner<3, 1>().norm() < 1e-4f) &&
         (step.topLeftCorner<3, 3>() - Eigen::Matrix3f::Identity()).norm() < 1e-4f)
       break;
+  }
+  // A mesh's normals are exact: the tracker's point-to-plane steps against the frame then turn
+  // its flat faces into place, where point-to-point lets them slide (the ViSP cube,
+  // docs/RESULTS.md).
+  if (model.whole_surface && model.min_facing > 0 && k && scene.height > 1 &&
+      int(scene.width) == k->width && int(scene.height) == k->height) {
+    const TrackResult polished = TrackPose(model, scene, *k, c.pose, TrackOptions{});
+    if (polished.tracking) c.pose = polished.model_to_camera;
   }
   const float tolerance = 2 * o.inlier_distance_m;
   const Eigen::Matrix3f R = c.pose.topLeftCorner<3, 3>();

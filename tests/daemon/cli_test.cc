@@ -1184,7 +1184,9 @@ TEST(Cli, BenchTrackScoresTheVispCubeAgainstItsTruthTable) {
 
 // The cube from its mesh (a symmetric model: grouping through its 24 turns), recognized alone in
 // each frame with the fovea on its true centre: a pose in every frame, most within the tolerance
-// (62 of 99 today; none before the model knew its turns), none dropped.
+// (84 of 99 today, 14 of the 15 others 2.0-4.5 cm off in frames where every estimate is,
+// docs/BENCHMARKS.md; 62 before verification's point-to-plane polish, none before the model knew
+// its turns), none dropped.
 TEST(Cli, BenchTrackFindsTheVispCubeFromItsMeshWithTheFoveaOnIt) {
   SACCADE_REQUIRE_DATA("visp_rbt/models/cube.obj");
   const std::string model = ::testing::TempDir() + "visp_cube_mesh.pcd";
@@ -1201,8 +1203,9 @@ TEST(Cli, BenchTrackFindsTheVispCubeFromItsMeshWithTheFoveaOnIt) {
   EXPECT_EQ(number("dropped_at_30hz"), 0) << r.out;
   EXPECT_EQ(number("recognized_frames"), 99) << r.out;
   EXPECT_GE(number("target_frames_with_pose"), 95) << r.out;
-  EXPECT_GE(number("tracked_frames"), 50) << r.out;
+  EXPECT_GE(number("tracked_frames"), 78) << r.out;
   EXPECT_LT(number("error_cm_p50"), 1.5) << r.out;
+  EXPECT_LT(number("error_deg_p50"), 3.5) << r.out;  // 3.8 before the polish
 }
 
 // A short sequence looped into a long run (--frames): the occluded preset twice. Each time the
