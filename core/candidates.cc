@@ -2,6 +2,7 @@
 
 #include "core/check.h"
 #include "core/fail.h"
+#include "core/model.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -227,6 +228,10 @@ ModelSignature SignModel(const Cloud& model, float spacing_m, const Verification
   s.coloured = coloured > 0 && counted >= 0.2f * float(finite) && !MaterialGreys(model);
   Normalize(&s.colour);
   return s;
+}
+
+ModelSignature SignModel(const ModelDescription& model) {
+  return SignModel(model.cloud(), model.scale().spacing_m, &model.verification());
 }
 
 std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraIntrinsics& intrinsics,

@@ -20,6 +20,8 @@
 
 namespace saccade {
 
+class ModelDescription;  // core/model.h
+
 struct CandidateOptions {
   int stride_px = 4;                // the coarse view: every stride-th pixel of every stride-th row
   float z_max_m = 3.0f;             // points farther than this are left out
@@ -86,6 +88,8 @@ struct ModelSignature {
 /// their area and half their thickness (silhouettes lost cases on them, docs/RESULTS.md).
 ModelSignature SignModel(const Cloud& model, float spacing_m,
                          const VerificationModel* surface = nullptr);
+/// The signature of a described model: its cloud, its spacing and its verification surface.
+ModelSignature SignModel(const ModelDescription& model);
 
 /// One place the model may be, camera frame.
 struct Candidate {

@@ -105,8 +105,7 @@ std::optional<Models> DescribeModels(const std::vector<std::string>& specs,
       Fail(error, "model '" + spec + "': " + why);
       return std::nullopt;
     }
-    const ModelSignature signature =
-        SignModel(d->cloud(), d->scale().spacing_m, &d->verification());
+    const ModelSignature signature = SignModel(*d);
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
     for (const PointT& p : d->cloud())
       if (FinitePoint(p))

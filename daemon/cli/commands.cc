@@ -164,8 +164,7 @@ int PrintCandidates(const ModelDescription& model, const Cloud& scene, const std
         << ": --candidates needs an organized scene (one point per pixel)\n";
     return kExitFailure;
   }
-  const ModelSignature signature =
-      SignModel(model.cloud(), model.scale().spacing_m, &model.verification());
+  const ModelSignature signature = SignModel(model);
   CandidateStats stats;
   const std::vector<Candidate> candidates =
       ProposeCandidates(scene, *camera, signature, CandidateOptions{}, &stats);

@@ -122,9 +122,7 @@ bool Runner::Run(const EvalConfiguration& c, const std::vector<Scene>& scenes,
   const bool visits = acquisitions && search.attention.search == SearchKind::kCandidates;
   std::vector<ModelSignature> signatures(models_.size());
   for (std::size_t m = 0; m < models_.size(); ++m)
-    if (described[m] && (lands || visits))
-      signatures[m] = SignModel(described[m]->cloud(), described[m]->scale().spacing_m,
-                                &described[m]->verification());
+    if (described[m] && (lands || visits)) signatures[m] = SignModel(*described[m]);
   const auto propose = [&](const Scene& s) {
     Proposed p;
     if (signatures[s.model].radius_m <= 0) return p;

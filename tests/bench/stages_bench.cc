@@ -81,7 +81,7 @@ BENCHMARK(BM_TrackPose)->Unit(benchmark::kMillisecond);
 // A search frame's whole-frame candidates (the table removed, model-sized windows scored).
 void BM_Candidates(benchmark::State& state) {
   const Fixture& f = Demo();
-  const ModelSignature signature = SignModel(f.model->cloud(), f.model->scale().spacing_m);
+  const ModelSignature signature = SignModel(*f.model);
   std::size_t n = 0;
   for (auto _ : state)
     n = ProposeCandidates(f.demo.scene.cloud, CameraIntrinsics{}, signature, CandidateOptions{})

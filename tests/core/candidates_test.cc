@@ -129,8 +129,7 @@ TEST(Candidates, AWholeSurfaceIsAsLargeAsAnyOfItsSides) {
   std::string error;
   const auto model = DescribeModel(rendered.points, RecognitionOptions{}, &error);
   ASSERT_TRUE(model) << error;
-  const ModelSignature signature =
-      SignModel(model->cloud(), model->scale().spacing_m, &model->verification());
+  const ModelSignature signature = SignModel(*model);
   EXPECT_GT(signature.seen_area_min_m2, 0.95f * face);
   EXPECT_LT(signature.seen_area_min_m2, 1.25f * face);
   EXPECT_GT(signature.seen_area_max_m2, 1.5f * face);
@@ -164,8 +163,7 @@ TEST(Candidates, AMeshsWideRangeOfAreasLooksAtWhatStandsAround) {
   std::string error;
   const auto model = DescribeModel(rendered.points, RecognitionOptions{}, &error);
   ASSERT_TRUE(model) << error;
-  const ModelSignature signature =
-      SignModel(model->cloud(), model->scale().spacing_m, &model->verification());
+  const ModelSignature signature = SignModel(*model);
   ModelSignature one_sided = signature;
   one_sided.seen_area_min_m2 = one_sided.seen_area_max_m2 = signature.seen_area_m2;
 
