@@ -11,6 +11,12 @@
 namespace saccade {
 namespace {
 
+// Two sightings by recognition give a track its motion when at most this far apart in time
+// (a search's eight candidate visits and a re-check, at 30 Hz)...
+constexpr double kSightingsApartMaxS = 0.5;
+// ...and the object moved between them no faster than this (the benchmark's fastest is 1 m/s).
+constexpr float kMaxSpeedMps = 2.0f;
+
 Eigen::Vector3f CentroidOf(const Eigen::Matrix4f& X_CM, const Eigen::Vector3f& model_centroid) {
   return Eigen::Affine3f(X_CM) * model_centroid;
 }
@@ -211,6 +217,7 @@ class TrackSet::Matching {
           taken_[i] = used_[k] = true;
           t.frames_since_check = 0;
           t.unconfirmed = 0;
+          if (t.first_check) Retake(&t, d);
         } else if (t.state == TrackState::kLost) {  // lost this frame, yet recognized here
           Reacquire(i, d, "re-acquired by recognition");
           used_[k] = true;
@@ -367,8 +374,10 @@ class TrackSet::Matching {
     Track& t = tracks()[i];
     taken_[i] = true;
     const int lost_for = t.lost_seq >= 0 ? static_cast<int>(frame_.seq - t.lost_seq) : 0;
-    // Held until this frame (lost on it) and found again near: the motion from its last pose
-    // to recognition's is the prediction's (a fast object outruns a track that starts still).
+    // Its motion: between its last two sightings by recognition when they are recent and tell
+    // a move (MoveBetweenSightings); else, held until this frame (lost on it) and found again
+    // near, from its last pose to recognition's (a fast object outruns a track that starts
+    // still).
     const bool was_held = t.lost_seq == frame_.seq;  // a new track's is -1
     const Eigen::Matrix4f last = t.pose;
     const double last_s = t.time_s;
@@ -377,28 +386,63 @@ class TrackSet::Matching {
     t.frames_since_check = options().recheck_every;
     t.unconfirmed = options().unconfirmed_rechecks - 1;
     t.lost_seq = -1;
-    t.found = d;
-    t.fitness = d.fitness;
-    t.coverage = d.coverage;
-    t.pose = d.model_to_scene;
     const TrackModel& model = models_[std::size_t(t.model)];
-    if (FrameUsable(frame_)) {
-      const TrackResult r =
-          TrackPose(*model.points, *frame_.cloud, frame_.intrinsics, t.pose, options().refine);
-      if (r.tracking) t.pose = r.model_to_camera;
-    }
-    t.time_s = frame_.time_s;
     t.motion = Eigen::Matrix4f::Identity();
     t.motion_dt_s = 0;
+    const bool sighted = MoveBetweenSightings(&t, d);
+    t.fitness = d.fitness;
+    t.coverage = d.coverage;
+    TakePose(&t, d);
+    t.first_check = true;
     const float moved =
         (CentroidOf(t.pose, model.centroid) - CentroidOf(last, model.centroid)).norm();
-    if (was_held && frame_.time_s > last_s && moved <= options().reacquire_radius_m) {
+    if (!sighted && was_held && frame_.time_s > last_s && moved <= options().reacquire_radius_m) {
       t.motion = t.pose * last.inverse();
       t.motion_dt_s = frame_.time_s - last_s;
     }
     std::string what = "track " + std::to_string(t.id) + " " + why;
     if (lost_for > 0) what += " after " + std::to_string(lost_for) + " frames";
     Say(events_, what);
+  }
+
+  // Recognition's pose of `d` for track t, refined on this frame when the frame holds it;
+  // the track's sighting from now on.
+  void TakePose(Track* t, const Detection& d) {
+    t->found = d;
+    t->found_s = frame_.time_s;
+    t->pose = d.model_to_scene;
+    if (FrameUsable(frame_)) {
+      const TrackResult r = TrackPose(*models_[std::size_t(t->model)].points, *frame_.cloud,
+                                      frame_.intrinsics, t->pose, options().refine);
+      if (r.tracking) t->pose = r.model_to_camera;
+    }
+    t->time_s = frame_.time_s;
+  }
+
+  // The track's motion from its last sighting by recognition to `d`, when that sighting is
+  // recent and the object moved between the two more than tracking reaches from a still start
+  // but no faster than an object is thrown: the centroid's move (a symmetric object's two poses
+  // may be two of its turns). Two sightings are unbiased where a track's own poses lag a fast
+  // object it started from still. False, and nothing set, otherwise.
+  bool MoveBetweenSightings(Track* t, const Detection& d) const {
+    const double dt = frame_.time_s - t->found_s;
+    if (!(dt > 0) || dt > kSightingsApartMaxS) return false;  // NaN: never sighted
+    const Eigen::Vector3f moved = d.centroid_m - t->found.centroid_m;
+    // Less than a point's reach: tracking from the still start is on it already.
+    if (moved.norm() <= options().refine.inlier_distance_m) return false;
+    if (moved.norm() > kMaxSpeedMps * float(dt)) return false;
+    t->motion = Eigen::Matrix4f::Identity();
+    t->motion.topRightCorner<3, 1>() = moved;
+    t->motion_dt_s = dt;
+    return true;
+  }
+
+  // The re-check right after a track was found confirms it: the two sightings give it its
+  // motion, and recognition's pose replaces the one tracking reached from a still start.
+  void Retake(Track* t, const Detection& d) {
+    t->first_check = false;
+    if (!MoveBetweenSightings(t, d)) return;
+    TakePose(t, d);
   }
 
   TrackSet& set_;

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -172,6 +173,10 @@ class TrackSet {
     int unconfirmed = 0;         // re-checks in a row that did not find it
     std::int64_t lost_seq = -1;  // the frame it was lost on, -1 while held
     Detection found;             // recognition's instance when it was last (re-)acquired
+    double found_s = std::numeric_limits<double>::quiet_NaN();  // ...and when (NaN: never)
+    /// Found on the last re-acquisition and not yet seen by recognition since: the next
+    /// sighting that confirms it gives the track its motion (Matching::Retake).
+    bool first_check = false;
     Eigen::Matrix4f PredictedAt(double time_s) const;
   };
 

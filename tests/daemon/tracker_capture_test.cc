@@ -137,5 +137,31 @@ TEST(CaptureTracking, TwoObjectsAreTrackedAtOnceEachWithItsOwnId) {
   EXPECT_GE(within[1], 72);
 }
 
+// The object-leave-return sequence: the coffee can leaves the view at 1 m/s (3.3 cm a frame)
+// and comes back. Found standing still as far as tracking knows, the can is outrun: tracking from
+// its found pose lags it by 2-4 cm and turns it 30-65 degrees about its axis, and the re-check on
+// the next frame confirmed that lagging pose. The first two sightings by recognition now give the
+// track its motion: of the 19 frames it is in view, the tracker holds it within 2 cm and 5
+// degrees on 16 (5 before), and never 5 cm off.
+TEST(CaptureTracking, AFastObjectIsHeldFromItsFirstTwoSightings) {
+  SACCADE_REQUIRE_DATA("mosd_xcap/test/test31.pcd");
+  const SequenceRun run = TrackSequence("object-leave-return", {});
+  ASSERT_EQ(run.frames.size(), 90u);
+  int visible = 0, within = 0;
+  for (std::size_t i = 0; i < run.frames.size(); ++i) {
+    if (run.truth[i].visible_fraction >= 0.2f) ++visible;
+    for (const Detection& d : run.frames[i].frame.instances) {
+      if (!Held(d)) continue;
+      const PoseError e =
+          ComparePoses(d.model_to_scene, run.truth[i].target_pose.matrix(), run.centres[0]);
+      EXPECT_LT(e.translation_m, 0.05) << "frame " << i;
+      within += e.translation_m < 0.02 && e.rotation_deg < 5;
+    }
+  }
+  EXPECT_GE(visible, 17);
+  EXPECT_LE(visible, 21);
+  EXPECT_GE(within, 13);
+}
+
 }  // namespace
 }  // namespace saccade
