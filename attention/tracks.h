@@ -172,7 +172,7 @@ class TrackSet {
     int frames_since_check = 0;  // frames since recognition last looked at it
     int unconfirmed = 0;         // re-checks in a row that did not find it
     std::int64_t lost_seq = -1;  // the frame it was lost on, -1 while held
-    Detection found;             // recognition's instance when it was last (re-)acquired
+    Detection found;             // recognition's instance when it was last (re-)acquired or retaken
     double found_s = std::numeric_limits<double>::quiet_NaN();  // ...and when (NaN: never)
     /// Found on the last re-acquisition and not yet seen by recognition since: the next
     /// sighting that confirms it gives the track its motion (Matching::Retake).
