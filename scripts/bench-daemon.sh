@@ -18,7 +18,8 @@ run() {  # name, source to record, base config, frames in flight, models (comma-
   local name=$1 source=$2 config=$3 in_flight=$4 models=$5
   rm -rf "$work/frames"
   "$build/daemon/saccade" record --source "$source" --out "$work/frames" --format depth >/dev/null
-  { grep -v -e '^source:' -e '^model:' "$config" |
+  # The config without its source (a line or a section) and its models: the run's are given.
+  { awk '/^source:/ { skip = 1; next } skip && /^[ #]/ { next } { skip = 0 } !/^model:/' "$config" |
       sed -e 's/summary: line/summary: off/' -e "s/^  frames_in_flight: [0-9]*/  frames_in_flight: $in_flight/"
     printf 'model: ["%s"]\n' "${models//,/\", \"}"
     grep -q '^pipeline:' "$config" || printf 'pipeline:\n  frames_in_flight: %s\n' "$in_flight"
