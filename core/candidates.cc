@@ -329,7 +329,8 @@ std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraInt
   // apart_weight).
   const float aw =
       model.seen_area_max_m2 > 0
-          ? 1 - (1 - o.apart_weight) * (model.seen_area_min_m2 / model.seen_area_max_m2)
+          ? std::clamp(1 - (1 - o.apart_weight) * (model.seen_area_min_m2 / model.seen_area_max_m2),
+                       o.apart_weight, 1.0f)
           : o.apart_weight;
   std::vector<Candidate> windows;
   windows.reserve(coords.size());
