@@ -250,6 +250,8 @@ class TrackSet::Matching {
   void MissTheUnfound() {
     for (std::size_t i = 0; i < tracks().size(); ++i) {
       Track& t = tracks()[i];
+      // The first recognized frame after a find was its one chance to be retaken.
+      if (t.found_s != frame_.time_s) t.first_check = false;
       if (!set_.Held(t) || taken_[i] || !InsideSearch(t)) continue;
       t.frames_since_check = 0;
       if (ambiguous_[i] || CutOffByTheView(t)) continue;
@@ -406,17 +408,19 @@ class TrackSet::Matching {
   }
 
   // Recognition's pose of `d` for track t, refined on this frame when the frame holds it;
-  // the track's sighting from now on.
-  void TakePose(Track* t, const Detection& d) {
+  // the track's sighting from now on. Returns the refinement (not tracking when there was none).
+  TrackResult TakePose(Track* t, const Detection& d) {
     t->found = d;
     t->found_s = frame_.time_s;
     t->pose = d.model_to_scene;
+    TrackResult r;
     if (FrameUsable(frame_)) {
-      const TrackResult r = TrackPose(*models_[std::size_t(t->model)].points, *frame_.cloud,
-                                      frame_.intrinsics, t->pose, options().refine);
+      r = TrackPose(*models_[std::size_t(t->model)].points, *frame_.cloud, frame_.intrinsics,
+                    t->pose, options().refine);
       if (r.tracking) t->pose = r.model_to_camera;
     }
     t->time_s = frame_.time_s;
+    return r;
   }
 
   // The track's motion from its last sighting by recognition to `d`, when that sighting is
@@ -438,11 +442,19 @@ class TrackSet::Matching {
   }
 
   // The re-check right after a track was found confirms it: the two sightings give it its
-  // motion, and recognition's pose replaces the one tracking reached from a still start.
+  // motion, and recognition's pose, when the frame holds it, replaces the one tracking reached
+  // from a still start (with its score: the track publishes it).
   void Retake(Track* t, const Detection& d) {
     t->first_check = false;
     if (!MoveBetweenSightings(t, d)) return;
-    TakePose(t, d);
+    const Eigen::Matrix4f tracked = t->pose;
+    const TrackResult r = TakePose(t, d);
+    if (!r.tracking) {
+      t->pose = tracked;
+      return;
+    }
+    t->fitness = r.fitness;
+    t->coverage = r.coverage;
   }
 
   TrackSet& set_;

@@ -165,7 +165,8 @@ class TrackSet {
     Eigen::Matrix4f pose = Eigen::Matrix4f::Identity();  // X_CM at time_s
     double time_s = 0;
     /// The last frame-to-frame motion, left-multiplied (X_CM(t) = motion * X_CM(t - dt)), and
-    /// its dt; identity until the track has two poses in a row.
+    /// its dt; identity until the track has two poses in a row (or, from two recent sightings by
+    /// recognition, the translation between them: Matching::MoveBetweenSightings).
     Eigen::Matrix4f motion = Eigen::Matrix4f::Identity();
     double motion_dt_s = 0;
     float fitness = 0, coverage = 0;
@@ -174,8 +175,8 @@ class TrackSet {
     std::int64_t lost_seq = -1;  // the frame it was lost on, -1 while held
     Detection found;             // recognition's instance when it was last (re-)acquired or retaken
     double found_s = std::numeric_limits<double>::quiet_NaN();  // ...and when (NaN: never)
-    /// Found on the last re-acquisition and not yet seen by recognition since: the next
-    /// sighting that confirms it gives the track its motion (Matching::Retake).
+    /// Found on the last recognized frame: this frame's sighting that confirms it gives the
+    /// track its motion (Matching::Retake); cleared after any other recognized frame.
     bool first_check = false;
     Eigen::Matrix4f PredictedAt(double time_s) const;
   };
