@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 
 namespace saccade {
@@ -14,8 +15,12 @@ namespace {
 // Two sightings by recognition give a track its motion when at most this far apart in time
 // (a search's eight candidate visits and a re-check, at 30 Hz)...
 constexpr double kSightingsApartMaxS = 0.5;
-// ...and the object moved between them no faster than this (the benchmark's fastest is 1 m/s).
+// ...and the object moved between them no faster than this (the benchmark's fastest is 1 m/s)
 constexpr float kMaxSpeedMps = 2.0f;
+// ...and farther than this: recognition's poses of a still object differ by up to about its
+// ICP's reach (verification's 8 mm inlier distance), and a slower move is one tracking follows
+// from a still start (1.5 cm a frame is 0.45 m/s at 30 Hz).
+constexpr float kMinSightedMoveM = 0.015f;
 
 Eigen::Vector3f CentroidOf(const Eigen::Matrix4f& X_CM, const Eigen::Vector3f& model_centroid) {
   return Eigen::Affine3f(X_CM) * model_centroid;
@@ -374,6 +379,7 @@ class TrackSet::Matching {
   // other starts again from recognition's pose, refined on this frame when the frame holds it.
   void Reacquire(std::size_t i, const Detection& d, const char* why) {
     Track& t = tracks()[i];
+    const bool put_back = set_.Held(t);
     taken_[i] = true;
     const int lost_for = t.lost_seq >= 0 ? static_cast<int>(frame_.seq - t.lost_seq) : 0;
     // Its motion: between its last two sightings by recognition when they are recent and tell
@@ -391,7 +397,9 @@ class TrackSet::Matching {
     const TrackModel& model = models_[std::size_t(t.model)];
     t.motion = Eigen::Matrix4f::Identity();
     t.motion_dt_s = 0;
-    const bool sighted = MoveBetweenSightings(&t, d);
+    // A put-back corrects a held track's pose, not its motion; a re-acquisition farther than
+    // reacquire_radius_m may be another instance of the model.
+    const bool sighted = !put_back && MoveBetweenSightings(&t, d, options().reacquire_radius_m);
     t.fitness = d.fitness;
     t.coverage = d.coverage;
     TakePose(&t, d);
@@ -424,19 +432,20 @@ class TrackSet::Matching {
   }
 
   // The track's motion from its last sighting by recognition to `d`, when that sighting is
-  // recent and the object moved between the two more than tracking reaches from a still start
-  // but no faster than an object is thrown: the centroid's move (a symmetric object's two poses
-  // may be two of its turns). Two sightings are unbiased where a track's own poses lag a fast
-  // object it started from still. False, and nothing set, otherwise.
-  bool MoveBetweenSightings(Track* t, const Detection& d) const {
+  // recent and the object moved between the two more than recognition's poses of a still
+  // object differ (kMinSightedMoveM), at most `max_move_m`, and no faster than an object is
+  // thrown: the centroid's move (a symmetric object's two poses may be two of its turns). Two
+  // sightings are unbiased where a track's own poses lag a fast object it started from still.
+  // False, and nothing set, otherwise.
+  bool MoveBetweenSightings(Track* t, const Detection& d,
+                            float max_move_m = std::numeric_limits<float>::infinity()) const {
     const double dt = frame_.time_s - t->found_s;
     if (!(dt > 0) || dt > kSightingsApartMaxS) return false;  // NaN: never sighted
-    const Eigen::Vector3f moved = d.centroid_m - t->found.centroid_m;
-    // Less than a point's reach: tracking from the still start is on it already.
-    if (moved.norm() <= options().refine.inlier_distance_m) return false;
-    if (moved.norm() > kMaxSpeedMps * float(dt)) return false;
+    const float moved = (d.centroid_m - t->found.centroid_m).norm();
+    if (moved <= kMinSightedMoveM || moved > max_move_m) return false;
+    if (moved > kMaxSpeedMps * float(dt)) return false;
     t->motion = Eigen::Matrix4f::Identity();
-    t->motion.topRightCorner<3, 1>() = moved;
+    t->motion.topRightCorner<3, 1>() = d.centroid_m - t->found.centroid_m;
     t->motion_dt_s = dt;
     return true;
   }

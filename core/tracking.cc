@@ -47,6 +47,52 @@ struct Pair {
   Eigen::Vector3f p;  // the model point in the camera frame
   Seen seen;
 };
+std::optional<Pair> PairOf(const VerificationModel& model, std::size_t i, const Cloud& frame,
+                           const CameraIntrinsics& k, const Eigen::Isometry3f& X_CM,
+                           int normal_step_px) {
+  const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
+  const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
+  if (!(p.z() > 0.05f) || !n.allFinite() || n.dot(p) >= 0) return std::nullopt;
+  const Eigen::Vector2d uv = k.Project(p);
+  const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+  const std::optional<Seen> seen = SeenAt(frame, u, v, normal_step_px);
+  if (!seen) return std::nullopt;
+  return Pair{p, *seen};
+}
+
+// The score of pose X_CM (its facing, inliers, free space, fitness, coverage, residual).
+TrackResult Score(const VerificationModel& model, const Cloud& frame, const CameraIntrinsics& k,
+                  const Eigen::Isometry3f& X_CM, const TrackOptions& o) {
+  TrackResult result;
+  double sq = 0;
+  for (std::size_t i = 0; i < model.points.size(); ++i) {
+    const std::optional<Pair> pr = PairOf(model, i, frame, k, X_CM, o.normal_step_px);
+    if (!pr) continue;
+    ++result.facing;
+    const float distance = (pr->p - pr->seen.point).norm();
+    if (distance <= o.inlier_distance_m) {
+      ++result.inliers;
+      const double e = pr->seen.normal.dot(pr->p - pr->seen.point);
+      sq += e * e;
+    } else if (pr->p.z() <= pr->seen.point.z() - o.free_space_margin_m) {
+      ++result.free_space;
+    }
+  }
+  result.model_to_camera = X_CM.matrix();
+  if (result.inliers + result.free_space > 0)
+    result.fitness = float(result.inliers) / float(result.inliers + result.free_space);
+  if (result.facing > 0) result.coverage = float(result.inliers) / float(result.facing);
+  if (result.inliers > 0) result.rms_m = float(std::sqrt(sq / result.inliers));
+  result.tracking = result.fitness >= o.min_fitness && result.coverage >= o.min_coverage;
+  return result;
+}
+
+void CheckFrame(const Cloud& frame, const CameraIntrinsics& k, const TrackOptions& o) {
+  SACCADE_CHECK_VALID(o);
+  SACCADE_CHECK(frame.height > 1 && static_cast<int>(frame.width) == k.width &&
+                    static_cast<int>(frame.height) == k.height,
+                "an organized frame of the intrinsics' size");
+}
 
 }  // namespace
 
@@ -64,21 +110,10 @@ bool TrackOptions::IsValid(std::string* error) const {
 
 TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const CameraIntrinsics& k,
                       const Eigen::Matrix4f& predicted, const TrackOptions& o) {
-  SACCADE_CHECK_VALID(o);
-  SACCADE_CHECK(frame.height > 1 && static_cast<int>(frame.width) == k.width &&
-                    static_cast<int>(frame.height) == k.height,
-                "an organized frame of the intrinsics' size");
+  CheckFrame(frame, k, o);
   Eigen::Isometry3f X_CM(predicted);
-  // Each model point that faces the camera, paired with what its pixel sees.
-  const auto pair_of = [&](std::size_t i) -> std::optional<Pair> {
-    const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
-    const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
-    if (!(p.z() > 0.05f) || !n.allFinite() || n.dot(p) >= 0) return std::nullopt;
-    const Eigen::Vector2d uv = k.Project(p);
-    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-    const std::optional<Seen> seen = SeenAt(frame, u, v, o.normal_step_px);
-    if (!seen) return std::nullopt;
-    return Pair{p, *seen};
+  const auto pair_of = [&](std::size_t i) {
+    return PairOf(model, i, frame, k, X_CM, o.normal_step_px);
   };
 
   // Rotations are taken about the model's centroid, where a turn of the object is one
@@ -87,7 +122,7 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
   for (const PointT& p : model.points) centre_M += p.getVector3fMap().cast<double>();
   centre_M /= double(std::max<std::size_t>(1, model.points.size()));
 
-  TrackResult result;
+  int iterations = 0;
   for (int it = 0; it < o.iterations; ++it) {
     // Gauss-Newton on the point-to-plane residuals n . (p - q), small motion [w, t] about the
     // centroid c: p' = p + w x (p - c) + t.
@@ -107,7 +142,7 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
       Jte += J * e;
       ++used;
     }
-    result.iterations = it + 1;
+    iterations = it + 1;
     if (used < 6) break;
     // Damping (Levenberg's), towards the current estimate, a share of each block's mean curvature:
     // a motion the surface does not constrain (a can's turn about its own axis, a plane's slide
@@ -130,28 +165,15 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
     if (x.head<3>().norm() < 1e-5 && x.tail<3>().norm() < 1e-5) break;  // converged
   }
 
-  // The score at the refined pose.
-  double sq = 0;
-  for (std::size_t i = 0; i < model.points.size(); ++i) {
-    const std::optional<Pair> pr = pair_of(i);
-    if (!pr) continue;
-    ++result.facing;
-    const float distance = (pr->p - pr->seen.point).norm();
-    if (distance <= o.inlier_distance_m) {
-      ++result.inliers;
-      const double e = pr->seen.normal.dot(pr->p - pr->seen.point);
-      sq += e * e;
-    } else if (pr->p.z() <= pr->seen.point.z() - o.free_space_margin_m) {
-      ++result.free_space;
-    }
-  }
-  result.model_to_camera = X_CM.matrix();
-  if (result.inliers + result.free_space > 0)
-    result.fitness = float(result.inliers) / float(result.inliers + result.free_space);
-  if (result.facing > 0) result.coverage = float(result.inliers) / float(result.facing);
-  if (result.inliers > 0) result.rms_m = float(std::sqrt(sq / result.inliers));
-  result.tracking = result.fitness >= o.min_fitness && result.coverage >= o.min_coverage;
+  TrackResult result = Score(model, frame, k, X_CM, o);
+  result.iterations = iterations;
   return result;
+}
+
+TrackResult ScorePose(const VerificationModel& model, const Cloud& frame, const CameraIntrinsics& k,
+                      const Eigen::Matrix4f& X_CM, const TrackOptions& o) {
+  CheckFrame(frame, k, o);
+  return Score(model, frame, k, Eigen::Isometry3f(X_CM), o);
 }
 
 }  // namespace saccade

@@ -65,4 +65,10 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame,
                       const CameraIntrinsics& intrinsics, const Eigen::Matrix4f& predicted,
                       const TrackOptions& options);
 
+/// The score TrackPose ends with, of `X_CM` as given (no step taken; iterations 0). Same
+/// preconditions.
+TrackResult ScorePose(const VerificationModel& model, const Cloud& frame,
+                      const CameraIntrinsics& intrinsics, const Eigen::Matrix4f& X_CM,
+                      const TrackOptions& options);
+
 }  // namespace saccade

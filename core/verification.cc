@@ -175,11 +175,16 @@ Check Refine(const VerificationModel& model, const Cloud& scene,
   }
   // A mesh's normals are exact: the tracker's point-to-plane steps against the frame then turn
   // its flat faces into place, where point-to-point lets them slide (the ViSP cube,
-  // docs/RESULTS.md).
+  // docs/RESULTS.md). The polished pose is kept when it holds and lays at least as many model
+  // points on the frame as ICP's. The tracker's default options: tracking.refine is a daemon
+  // setting that recognition does not see (they are saccaded.yaml's too).
   if (model.whole_surface && model.min_facing > 0 && k && scene.height > 1 &&
       int(scene.width) == k->width && int(scene.height) == k->height) {
-    const TrackResult polished = TrackPose(model, scene, *k, c.pose, TrackOptions{});
-    if (polished.tracking) c.pose = polished.model_to_camera;
+    const TrackOptions polish;
+    const TrackResult polished = TrackPose(model, scene, *k, c.pose, polish);
+    if (polished.tracking &&
+        polished.inliers >= ScorePose(model, scene, *k, c.pose, polish).inliers)
+      c.pose = polished.model_to_camera;
   }
   const float tolerance = 2 * o.inlier_distance_m;
   const Eigen::Matrix3f R = c.pose.topLeftCorner<3, 3>();

@@ -19,7 +19,7 @@ run() {  # name, source to record, base config, frames in flight, models (comma-
   rm -rf "$work/frames"
   "$build/daemon/saccade" record --source "$source" --out "$work/frames" --format depth >/dev/null
   # The config without its source (a line or a section) and its models: the run's are given.
-  { awk '/^source:/ { skip = 1; next } skip && /^[ #]/ { next } { skip = 0 } !/^model:/' "$config" |
+  { awk '/^(source|model):/ { skip = 1; next } skip && /^([ #-]|$)/ { next } { skip = 0 } 1' "$config" |
       sed -e 's/summary: line/summary: off/' -e "s/^  frames_in_flight: [0-9]*/  frames_in_flight: $in_flight/"
     printf 'model: ["%s"]\n' "${models//,/\", \"}"
     grep -q '^pipeline:' "$config" || printf 'pipeline:\n  frames_in_flight: %s\n' "$in_flight"

@@ -54,6 +54,25 @@ TEST(TrackPose, APoseWithNoObjectUnderItIsNotTracking) {
   }
 }
 
+TEST(ScorePose, ScoresThePoseAsGivenAsTrackPoseScoresWhereItEnds) {
+  const Demo& d = TheDemo();
+  const VerificationModel& m = d.model->verification();
+  const Cloud& frame = d.demo.scene.cloud;
+  const TrackResult at_truth = ScorePose(m, frame, CameraIntrinsics{}, d.demo.truth.matrix(), {});
+  EXPECT_TRUE(at_truth.tracking);
+  EXPECT_EQ(at_truth.iterations, 0);
+  const Eigen::Matrix4f off = (Eigen::Translation3f(0.01f, 0.01f, 0.01f) * d.demo.truth).matrix();
+  const TrackResult as_given = ScorePose(m, frame, CameraIntrinsics{}, off, {});
+  EXPECT_TRUE(as_given.model_to_camera.isApprox(off));
+  EXPECT_LT(as_given.inliers, at_truth.inliers / 2);
+  const TrackResult tracked = TrackPose(m, frame, CameraIntrinsics{}, off, {});
+  const TrackResult rescored = ScorePose(m, frame, CameraIntrinsics{}, tracked.model_to_camera, {});
+  EXPECT_EQ(rescored.inliers, tracked.inliers);
+  EXPECT_EQ(rescored.facing, tracked.facing);
+  EXPECT_FLOAT_EQ(rescored.fitness, tracked.fitness);
+  EXPECT_GT(tracked.inliers, as_given.inliers);
+}
+
 TEST(TrackOptions, InvalidValuesNameTheField) {
   TrackOptions o;
   o.min_fitness = 2;
