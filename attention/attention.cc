@@ -23,6 +23,8 @@ bool AttentionOptions::IsValid(std::string* error) const {
     return Fail(error, "saccade_region_m must be > 0");
   if (max_candidate_visits < 0 || max_candidate_visits > 1000)
     return Fail(error, "max_candidate_visits must be in [0, 1000]");
+  if (looks_per_frame < 1 || looks_per_frame > 16)
+    return Fail(error, "looks_per_frame must be in [1, 16]");
   if (!finite(acquire_confidence) || acquire_confidence < 0 || acquire_confidence > 1)
     return Fail(error, "acquire_confidence must be in [0, 1]");
   if (!finite(tentative_min_confidence) || tentative_min_confidence < 0 ||
@@ -61,6 +63,43 @@ Eigen::Vector3f LandGiven(const Fixation& f, const std::vector<Eigen::Vector3f>&
   if (near || f.aimed || places.empty() || reach_m <= 0)
     return LandOnCandidate(f.fovea_m, places, reach_m, stay_m);
   return places.front();
+}
+
+std::vector<Eigen::Vector3f> Looks::Take(
+    const Eigen::Vector3f& first_m, const std::vector<Eigen::Vector3f>& places,
+    std::vector<Detection>* found,
+    const std::function<void(const Eigen::Vector3f&, std::vector<Detection>*)>& look) const {
+  std::vector<Eigen::Vector3f> looked, near = seen;
+  near.push_back(first_m);
+  const auto enough = [&](const Detection& d) {
+    return d.confidence < 0 || d.confidence >= enough_confidence;
+  };
+  while (static_cast<int>(looked.size()) < left &&
+         std::none_of(found->begin(), found->end(), enough)) {
+    const auto pick = std::find_if(places.begin(), places.end(), [&](const Eigen::Vector3f& p) {
+      return std::none_of(near.begin(), near.end(),
+                          [&](const Eigen::Vector3f& v) { return (p - v).norm() < radius_m; });
+    });
+    if (pick == places.end()) break;
+    looked.push_back(*pick);
+    near.push_back(*pick);
+    const std::size_t before = found->size();
+    look(*pick, found);
+    // An object two looks saw is kept once: its more confident sighting.
+    const auto same = [&](const Detection& a, const Detection& b) {
+      return a.model == b.model && (a.centroid_m - b.centroid_m).norm() < radius_m;
+    };
+    std::vector<bool> drop(found->size(), false);
+    for (std::size_t i = before; i < found->size(); ++i)
+      for (std::size_t j = 0; j < before; ++j)
+        if (!drop[j] && same((*found)[i], (*found)[j]))
+          drop[(*found)[i].confidence > (*found)[j].confidence ? j : i] = true;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < found->size(); ++i)
+      if (!drop[i]) (*found)[kept++] = std::move((*found)[i]);
+    found->resize(kept);
+  }
+  return looked;
 }
 
 bool FollowsTentative(const Fixation& f) {
@@ -309,6 +348,31 @@ void Attention::Land(const Eigen::Vector3f& landed_m, Fixation* f) {
   const bool visit = (landed_m - f->fovea_m).norm() > options_.land_on_candidate_m;
   candidate_visits_ += visit;
   JumpTo(landed_m, visit ? "candidate" : "landed", f);
+}
+
+Looks Attention::PlanLooks() const {
+  Looks looks;
+  looks.radius_m = options_.same_target_m;
+  looks.enough_confidence = options_.acquire_confidence;
+  const bool growing = current_.growth_m > options_.growth_min_m || saccading_;
+  if (options_.search != SearchKind::kCandidates || current_.mode != AttentionMode::kSearching ||
+      growing || !targets_.empty())
+    return looks;
+  looks.left =
+      std::min(options_.looks_per_frame - 1, options_.max_candidate_visits - candidate_visits_);
+  if (candidate_visits_ > 0) looks.seen = visited_;
+  return looks;
+}
+
+void Attention::Looked(std::int64_t frame_seq, const Eigen::Vector3f& first_m,
+                       const std::vector<Eigen::Vector3f>& looks) {
+  if (current_.frame_seq != frame_seq || current_.fovea_m != first_m) return;
+  for (const Eigen::Vector3f& place : looks) {
+    if (candidate_visits_ == 0) visited_.clear();
+    visited_.push_back(current_.fovea_m);
+    ++candidate_visits_;
+    JumpTo(place, "candidate", &current_);
+  }
 }
 
 void Attention::Landed(const Eigen::Vector3f& aim_m, const Eigen::Vector3f& landed_m) {

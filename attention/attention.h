@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,10 @@ struct AttentionOptions {
   SearchKind search = SearchKind::kCandidates;
   /// Candidates visited per search before G grows from the last of them.
   int max_candidate_visits = 8;
+  /// Places a search frame recognizes at (its fovea, then the best candidates not visited),
+  /// until one gives a sighting confident enough to follow: a frame costs up to this many
+  /// recognitions and an object among them is found in it. 1: one place a frame (the paper).
+  int looks_per_frame = 1;
   /// A search starts following a sighting only at this confidence or above (a sighting without
   /// one, from unverified recognition, always qualifies). Below it, the most confident sighting
   /// of the search is remembered and followed once the candidates are visited. 0: follow the
@@ -85,6 +90,7 @@ struct AttentionOptions {
     a->Choice("search", &search,
               {{"candidates", SearchKind::kCandidates}, {"grow", SearchKind::kGrow}});
     a->Visit("max_candidate_visits", &max_candidate_visits);
+    a->Visit("looks_per_frame", &looks_per_frame);
     a->Visit("acquire_confidence", &acquire_confidence);
     a->Visit("tentative_min_confidence", &tentative_min_confidence);
     a->Visit("challenge_margin", &challenge_margin);
@@ -110,6 +116,24 @@ Eigen::Vector3f LandOnCandidate(const Eigen::Vector3f& aim_m,
 Eigen::Vector3f LandGiven(const Fixation& f, const std::vector<Eigen::Vector3f>& places,
                           float reach_m, float stay_m);
 
+/// A search frame's further looks (AttentionOptions::looks_per_frame), planned from the search
+/// as it stood when the frame was foveated (Attention::PlanLooks).
+struct Looks {
+  std::vector<Eigen::Vector3f> seen;  // places visited in this search
+  int left = 0;                       // looks the frame may take after its first
+  float radius_m = 0.1f;              // a place this near a seen one is seen (same_target_m)
+  float enough_confidence = 0.9f;     // a sighting this confident ends the frame's looks
+  /// Recognizes the frame at further places after its first look at `first_m` whose
+  /// sightings are in `found`: while none of them is enough_confidence (or unverified) and
+  /// looks are left, at the best of `places` not seen yet. `look(place, &found)` recognizes
+  /// there and appends its sightings; one of a model within radius_m of a more confident one
+  /// of that model is the same object, kept once. Returns the places looked at, in order.
+  std::vector<Eigen::Vector3f> Take(
+      const Eigen::Vector3f& first_m, const std::vector<Eigen::Vector3f>& places,
+      std::vector<Detection>* found,
+      const std::function<void(const Eigen::Vector3f&, std::vector<Detection>*)>& look) const;
+};
+
 /// True when attention follows the best instance of a search from nothing, one that started
 /// no track (reason "tentative"): saccaded lets a track start from it below the bar.
 bool FollowsTentative(const Fixation& f);
@@ -129,6 +153,15 @@ class Attention {
   /// there: the search counts that as its landing. Call before that frame's Update. Ignored
   /// when the landing is done already or the fovea was given again since (a command).
   void Landed(const Eigen::Vector3f& aim_m, const Eigen::Vector3f& landed_m);
+  /// The looks a frame foveated at the current fixation may take besides its first: none
+  /// unless attention visits candidates (a search with no target, before G grows).
+  Looks PlanLooks() const;
+  /// The frame foveated at the fixation of `frame_seq`, first recognized at `first_m` (the
+  /// fovea, or where it landed: call Landed first), also recognized at `looks` (Looks::Take):
+  /// each is one of the search's candidate visits, the fovea ending on the last. Call before
+  /// that frame's Update. Ignored when the fixation changed since (a command).
+  void Looked(std::int64_t frame_seq, const Eigen::Vector3f& first_m,
+              const std::vector<Eigen::Vector3f>& looks);
   /// Forgets every target: searching around `fovea_m` with G_min. `reason` goes in the record;
   /// `aimed`: the fovea is an aim (a command), not a guess (Fixation::aimed).
   void Reset(const Eigen::Vector3f& fovea_m, const std::string& reason = "reset",

@@ -221,6 +221,24 @@ void RecognizeStage::Process(Job* job) {
     else if (c.saccade_fallback)
       job->salient = SalientRegions(*frame.cloud, c.saliency);
   }
+  // A search from nothing may look at its next candidates in this frame too, until one holds
+  // an instance confident enough to start a track (attention.looks_per_frame).
+  if (job->plan.left > 0 && c.search_candidates && q.foveated && job->sweep_phase < 0 &&
+      !job->recheck_at) {
+    Looks plan = job->plan;
+    if (c.tracking.enabled) plan.enough_confidence = c.tracking.min_track_confidence;
+    job->looks = plan.Take(q.fovea_m, job->salient, &out.instances,
+                           [&](const Eigen::Vector3f& place, std::vector<Detection>* found) {
+                             SceneQuery look = q;
+                             look.fovea_m = place;
+                             look.search_phase = 0;  // the window nearest the candidate
+                             LibraryResult seen = RecognizeLibrary(
+                                 *c.library, *frame.cloud, look, options,
+                                 masked ? job->models : std::vector<bool>{}, parallel, &error);
+                             for (Detection& d : seen.instances) found->push_back(std::move(d));
+                           });
+    if (!job->looks.empty()) out.fovea_m = job->looks.back();
+  }
   out.recognize_ms = static_cast<float>(Ms(t0, SteadyNowNs()));
 }
 
@@ -288,6 +306,12 @@ Fixation AttendStage::Current() const {
   return current_;
 }
 
+void AttendStage::Plan(Job* job) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  job->used = current_;
+  job->plan = attention_.PlanLooks();
+}
+
 void AttendStage::Process(Job* job) {
   const std::int64_t t0 = SteadyNowNs();
   // Attention follows what is seen: held tracks, or recognition's instances without tracking.
@@ -311,6 +335,8 @@ void AttendStage::Process(Job* job) {
     for (const Detection& d : job->detections.instances)
       if (d.track_state == TrackState::kNone) seen.push_back(d);
   if (job->landed_m) attention_.Landed(job->used.fovea_m, *job->landed_m);
+  if (!job->looks.empty())
+    attention_.Looked(job->used.frame_seq, job->landed_m.value_or(job->used.fovea_m), job->looks);
   Fixation f = attention_.Update(static_cast<std::int64_t>(job->frame.sequence),
                                  job->frame.capture_utime * 1e-6, seen, job->salient);
   if (pending_) {  // a command overrides what this frame would have done

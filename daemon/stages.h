@@ -59,6 +59,7 @@ struct StageConfig {
 struct Job {
   Frame frame;
   Fixation used;          // the fixation the frame was foveated with
+  Looks plan;             // the further places the frame may look at (Attention::PlanLooks)
   bool recognize = true;  // false: the tracks hold and no re-check is due, tracking alone
   /// >= 0: recognition sweeps the whole frame (unfoveated, this window of the keypoint budget)
   /// for the models no track holds, instead of looking at the fovea (TrackSet::SweepPhase).
@@ -76,6 +77,9 @@ struct Job {
   /// Where recognition landed a given fovea (Fixation::lands) before looking: attention is
   /// told (Attention::Landed), so the landing is not made again a frame later.
   std::optional<Eigen::Vector3f> landed_m;
+  /// Where recognition looked after its first look (Looks::Take): attention counts each as a
+  /// candidate visit (Attention::Looked).
+  std::vector<Eigen::Vector3f> looks;
   double track_ms = 0, attention_ms = 0;
   std::string track_events;  // what changed in the tracks, for the fixation's reason
   Fixation next;             // attention's fixation after this frame
@@ -136,6 +140,8 @@ class AttendStage {
   AttendStage(const AttentionOptions& options, const Eigen::Vector3f& initial_fovea_m);
   /// The fixation new frames are foveated with. Thread-safe.
   Fixation Current() const;
+  /// That fixation, and the further looks a frame foveated with it may take. Thread-safe.
+  void Plan(Job* job) const;
   /// Digests the job's detections into job->next (a pending command overrides it). Serial, in
   /// frame order.
   void Process(Job* job);

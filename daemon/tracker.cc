@@ -251,7 +251,7 @@ std::shared_ptr<Job> Tracker::Impl::NextJob(std::string* source_error) {
     return nullptr;
   }
   if (job->frame.arrival_steady_ns == 0) job->frame.arrival_steady_ns = SteadyNowNs();
-  job->used = attend.Current();
+  attend.Plan(job.get());
   track.PlanRecognition(job.get());
   return job;
 }
@@ -329,7 +329,7 @@ void Tracker::Process(Frame frame) {
   Job job;
   job.frame = std::move(frame);
   if (job.frame.arrival_steady_ns == 0) job.frame.arrival_steady_ns = SteadyNowNs();
-  job.used = impl_->attend.Current();
+  impl_->attend.Plan(&job);
   impl_->track.PlanRecognition(&job);
   impl_->recognize.Process(&job);
   impl_->track.Process(&job);

@@ -261,19 +261,32 @@ Acquisition Runner::Acquire(const ModelDescription& model, const Scene& s,
     q.foveated = foveated && f.mode != AttentionMode::kFullScan;  // past G_max: the whole frame
     q.search_phase = f.SearchPhase();  // as saccaded walks a budgeted search
     const auto t0 = std::chrono::steady_clock::now();
-    const std::vector<Detection> instances =
-        as_trial ? first : Recognize(model, *s.frame.cloud, q, o, parallel_).instances;
+    std::vector<Detection> sightings;
+    const auto sight = [&](const std::vector<Detection>& instances, std::vector<Detection>* found) {
+      for (const Detection& d : instances) {
+        Detection& seen = found->emplace_back();
+        seen.centroid_m = m.ScoredPoint(d.model_to_scene);
+        seen.confidence = d.confidence;
+        seen.model = 0;
+      }
+    };
+    sight(as_trial ? first : Recognize(model, *s.frame.cloud, q, o, parallel_).instances,
+          &sightings);
+    // Further looks in this frame, as saccaded takes them (attention.looks_per_frame).
+    const std::vector<Eigen::Vector3f> looks = attention.PlanLooks().Take(
+        q.fovea_m, places, &sightings,
+        [&](const Eigen::Vector3f& place, std::vector<Detection>* found) {
+          SceneQuery look = q;
+          look.fovea_m = place;
+          look.search_phase = 0;
+          sight(Recognize(model, *s.frame.cloud, look, o, parallel_).instances, found);
+        });
+    attention.Looked(attention.current().frame_seq, q.fovea_m, looks);
     a.frame_ms.push_back(
         candidates_ms +
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    std::vector<Detection> sightings;
-    for (const Detection& d : instances) {
-      Detection& seen = sightings.emplace_back();
-      seen.centroid_m = m.ScoredPoint(d.model_to_scene);
-      seen.confidence = d.confidence;
-      seen.model = 0;
+    for (const Detection& seen : sightings)
       a.false_instances += (seen.centroid_m - s.truth_m).norm() > 0.08f;
-    }
     const int before = attention.current().target;
     const Fixation& next = attention.Update(frame, frame / 30.0, sightings, places);
     if (next.mode != AttentionMode::kTracking) continue;

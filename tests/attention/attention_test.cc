@@ -259,6 +259,62 @@ TEST(Attention, ALandingMadeByTheFrameIsCountedOnce) {
   EXPECT_FALSE(f.lands);
 }
 
+TEST(Attention, ASearchFrameLooksAtItsNextCandidatesUntilOneHoldsTheObject) {
+  AttentionOptions o;
+  o.looks_per_frame = 4;
+  const std::vector<Eigen::Vector3f> places = {
+      Eigen::Vector3f(0.4f, 0, 1), Eigen::Vector3f(-0.4f, 0, 1), Eigen::Vector3f(0.8f, 0, 1),
+      Eigen::Vector3f(-0.8f, 0, 1)};
+  EXPECT_EQ(Attention(AttentionOptions{}, Eigen::Vector3f(0, 0, 1)).PlanLooks().left, 0);
+  Attention a(o, Eigen::Vector3f(0, 0, 1));
+  Fixation f = a.Update(1, 0.0, {}, places);  // the guess lands on the best: the first visit
+  ASSERT_TRUE(f.fovea_m.isApprox(places[0]));
+  const Looks plan = a.PlanLooks();
+  EXPECT_EQ(plan.left, 3);
+  // The frame's first look, at places[0], saw nothing; the next sees a weak sighting there and
+  // the object farther on, weakly; the one after sees the object well: the frame stops there.
+  std::vector<Detection> found;
+  std::vector<Eigen::Vector3f> asked;
+  const std::vector<Eigen::Vector3f> looks = plan.Take(
+      places[0], places, &found, [&](const Eigen::Vector3f& place, std::vector<Detection>* out) {
+        asked.push_back(place);
+        if (place == places[1]) out->push_back(Seen(-0.4f, 0.6f));
+        if (place == places[1]) out->push_back(Seen(0.8f, 0.5f));
+        if (place == places[2]) out->push_back(Seen(0.81f, 0.95f));
+      });
+  ASSERT_EQ(looks.size(), 2u);
+  EXPECT_EQ(asked, looks);
+  EXPECT_TRUE(looks[0].isApprox(places[1]));
+  EXPECT_TRUE(looks[1].isApprox(places[2]));
+  ASSERT_EQ(found.size(), 2u);  // the object seen twice is kept once, its better sighting
+  EXPECT_FLOAT_EQ(found[0].confidence, 0.6f);
+  EXPECT_FLOAT_EQ(found[1].confidence, 0.95f);
+  a.Looked(7, places[0], looks);  // another frame's looks: ignored
+  EXPECT_TRUE(a.current().fovea_m.isApprox(places[0]));
+  a.Looked(1, places[0], looks);
+  EXPECT_TRUE(a.current().fovea_m.isApprox(places[2]));
+  EXPECT_EQ(a.current().reason, "candidate");
+  f = a.Update(2, 0.1, found, places);
+  EXPECT_EQ(f.mode, AttentionMode::kTracking);
+  EXPECT_EQ(f.reason, "detected");
+  EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0.81f, 0, 1)));
+  EXPECT_EQ(a.PlanLooks().left, 0);  // following a target: no looks elsewhere
+
+  // The looks are candidate visits: the search's budget bounds them, and a frame looks only
+  // where this search has not.
+  o.max_candidate_visits = 3;
+  Attention b(o, Eigen::Vector3f(0, 0, 1));
+  b.Update(1, 0.0, {}, places);
+  const Looks two = b.PlanLooks();
+  EXPECT_EQ(two.left, 2);
+  std::vector<Detection> none;
+  const auto blind = [](const Eigen::Vector3f&, std::vector<Detection>*) {};
+  b.Looked(1, places[0], two.Take(places[0], places, &none, blind));
+  f = b.Update(2, 0.1, {}, places);
+  EXPECT_NE(f.reason, "candidate");  // three visited: G grows
+  EXPECT_GT(f.growth_m, 0.0f);
+}
+
 TEST(Attention, AlternatesBetweenInstancesAndModelsOnePerFrame) {
   AttentionOptions o;
   o.max_targets = 3;
