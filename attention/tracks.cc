@@ -222,7 +222,10 @@ class TrackSet::Matching {
           taken_[i] = used_[k] = true;
           t.frames_since_check = 0;
           t.unconfirmed = 0;
-          if (t.first_check) Retake(&t, d);
+          if (t.first_check)
+            Retake(&t, d);
+          else
+            Realign(&t, d);
         } else if (t.state == TrackState::kLost) {  // lost this frame, yet recognized here
           Reacquire(i, d, "re-acquired by recognition");
           used_[k] = true;
@@ -462,6 +465,24 @@ class TrackSet::Matching {
       t->pose = tracked;
       return;
     }
+    t->fitness = r.fitness;
+    t->coverage = r.coverage;
+  }
+
+  // A confirmed track takes recognition's pose, refined on the frame, when that lays more of
+  // the model on the frame than the track's own pose: tracking can slide along an object's
+  // faces (a cube cut from one view misses a face that would stop it) where recognition,
+  // which matches the whole shape, does not.
+  void Realign(Track* t, const Detection& d) {
+    if (!FrameUsable(frame_)) return;
+    const VerificationModel& m = *models_[std::size_t(t->model)].points;
+    const TrackResult r =
+        TrackPose(m, *frame_.cloud, frame_.intrinsics, d.model_to_scene, options().refine);
+    if (!r.tracking ||
+        r.inliers <=
+            ScorePose(m, *frame_.cloud, frame_.intrinsics, t->pose, options().refine).inliers)
+      return;
+    t->pose = r.model_to_camera;
     t->fitness = r.fitness;
     t->coverage = r.coverage;
   }
