@@ -355,8 +355,9 @@ Looks Attention::PlanLooks() const {
   looks.radius_m = options_.same_target_m;
   looks.enough_confidence = options_.acquire_confidence;
   const bool growing = current_.growth_m > options_.growth_min_m || saccading_;
+  // A command's aim is looked at alone in its frame, as asked.
   if (options_.search != SearchKind::kCandidates || current_.mode != AttentionMode::kSearching ||
-      growing || !targets_.empty())
+      growing || !targets_.empty() || (current_.lands && current_.aimed))
     return looks;
   looks.left =
       std::min(options_.looks_per_frame - 1, options_.max_candidate_visits - candidate_visits_);

@@ -44,7 +44,7 @@ struct AttentionOptions {
   /// Places a search frame recognizes at (its fovea, then the best candidates not visited),
   /// until one gives a sighting confident enough to follow: a frame costs up to this many
   /// recognitions and an object among them is found in it. 1: one place a frame (the paper).
-  int looks_per_frame = 1;
+  int looks_per_frame = 3;
   /// A search starts following a sighting only at this confidence or above (a sighting without
   /// one, from unverified recognition, always qualifies). Below it, the most confident sighting
   /// of the search is remembered and followed once the candidates are visited. 0: follow the
@@ -154,7 +154,8 @@ class Attention {
   /// when the landing is done already or the fovea was given again since (a command).
   void Landed(const Eigen::Vector3f& aim_m, const Eigen::Vector3f& landed_m);
   /// The looks a frame foveated at the current fixation may take besides its first: none
-  /// unless attention visits candidates (a search with no target, before G grows).
+  /// unless attention visits candidates (a search with no target, before G grows), and none
+  /// on a command's aim (Fixation::aimed) not landed yet.
   Looks PlanLooks() const;
   /// The frame foveated at the fixation of `frame_seq`, first recognized at `first_m` (the
   /// fovea, or where it landed: call Landed first), also recognized at `looks` (Looks::Take):

@@ -265,7 +265,10 @@ TEST(Attention, ASearchFrameLooksAtItsNextCandidatesUntilOneHoldsTheObject) {
   const std::vector<Eigen::Vector3f> places = {
       Eigen::Vector3f(0.4f, 0, 1), Eigen::Vector3f(-0.4f, 0, 1), Eigen::Vector3f(0.8f, 0, 1),
       Eigen::Vector3f(-0.8f, 0, 1)};
-  EXPECT_EQ(Attention(AttentionOptions{}, Eigen::Vector3f(0, 0, 1)).PlanLooks().left, 0);
+  AttentionOptions paper;
+  paper.looks_per_frame = 1;
+  EXPECT_EQ(Attention(paper, Eigen::Vector3f(0, 0, 1)).PlanLooks().left, 0);
+  EXPECT_EQ(Attention(AttentionOptions{}, Eigen::Vector3f(0, 0, 1)).PlanLooks().left, 2);
   Attention a(o, Eigen::Vector3f(0, 0, 1));
   Fixation f = a.Update(1, 0.0, {}, places);  // the guess lands on the best: the first visit
   ASSERT_TRUE(f.fovea_m.isApprox(places[0]));

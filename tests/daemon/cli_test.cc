@@ -912,8 +912,9 @@ TEST(Cli, EvalWritesTablesCurvesSweepAndPlots) {
       EXPECT_EQ(std::stoi(tp), tp_at_8cm[name]) << name;
     }
   }
-  // sweep.csv: 0-35 cm by 5. On the object the first frame finds it; 35 cm off, the attention
-  // loop has to grow the fovea for a frame or more before it does, and sees nothing false.
+  // sweep.csv: 0-35 cm by 5. On the object the first frame finds it; 35 cm off, one
+  // recognition does not, and the attention loop does (its first frame looks at the next
+  // candidates too: attention.looks_per_frame), seeing nothing false.
   std::ifstream sweep(dir + "/sweep.csv");
   std::getline(sweep, line);
   EXPECT_EQ(line, "name,offset_m,tp,fp,mean_ms,acquired,mean_frames,acquire_fp");
@@ -931,7 +932,7 @@ TEST(Cli, EvalWritesTablesCurvesSweepAndPlots) {
   EXPECT_EQ(offsets.front()[6], "1");
   EXPECT_EQ(offsets.back()[2], "0");  // ...35 cm off not in one frame...
   EXPECT_EQ(offsets.back()[5], "2");  // ...but by the attention loop
-  EXPECT_GT(std::stod(offsets.back()[6]), 1.0);
+  EXPECT_GE(std::stod(offsets.back()[6]), 1.0);
   EXPECT_EQ(offsets.back()[7], "0");
 }
 
