@@ -227,6 +227,7 @@ void RecognizeStage::Process(Job* job) {
       !job->recheck_at) {
     Looks plan = job->plan;
     if (c.tracking.enabled) plan.enough_confidence = c.tracking.min_track_confidence;
+    error.clear();
     job->looks = plan.Take(q.fovea_m, job->salient, &out.instances,
                            [&](const Eigen::Vector3f& place, std::vector<Detection>* found) {
                              SceneQuery look = q;
@@ -238,6 +239,7 @@ void RecognizeStage::Process(Job* job) {
                              for (Detection& d : seen.instances) found->push_back(std::move(d));
                            });
     if (!job->looks.empty()) out.fovea_m = job->looks.back();
+    if (!error.empty()) Log(LogLevel::kDebug, "frame " + std::to_string(out.seq) + ": " + error);
   }
   out.recognize_ms = static_cast<float>(Ms(t0, SteadyNowNs()));
 }
