@@ -20,8 +20,6 @@ std::string LastOpenNIError() {
   return s;
 }
 
-// libOpenNI2 is initialized once per process and stays up: its drivers own threads that
-// outlive any one source.
 bool InitializeOpenNI(std::string* error) {
   static std::mutex mutex;
   static bool initialized = false;
