@@ -355,10 +355,12 @@ Looks Attention::PlanLooks() const {
   looks.radius_m = options_.same_target_m;
   looks.enough_confidence = options_.acquire_confidence;
   const bool growing = current_.growth_m > options_.growth_min_m || saccading_;
+  const bool lost = !targets_.empty();  // searched for where it was lost, G growing
   // A command's aim is looked at alone in its frame, as asked.
   if (options_.search != SearchKind::kCandidates || current_.mode != AttentionMode::kSearching ||
-      growing || !targets_.empty() || (current_.lands && current_.aimed))
+      saccading_ || (growing && !lost) || (current_.lands && current_.aimed))
     return looks;
+  looks.moves_fovea = !lost;
   looks.left =
       std::min(options_.looks_per_frame - 1, options_.max_candidate_visits - candidate_visits_);
   if (candidate_visits_ > 0) looks.seen = visited_;
@@ -368,10 +370,15 @@ Looks Attention::PlanLooks() const {
 void Attention::Looked(std::int64_t frame_seq, const Eigen::Vector3f& first_m,
                        const std::vector<Eigen::Vector3f>& looks) {
   if (current_.frame_seq != frame_seq || current_.fovea_m != first_m) return;
+  const bool lost = !targets_.empty();
   for (const Eigen::Vector3f& place : looks) {
     if (candidate_visits_ == 0) visited_.clear();
-    visited_.push_back(current_.fovea_m);
     ++candidate_visits_;
+    if (lost) {  // the fovea stays where the target was lost
+      visited_.push_back(place);
+      continue;
+    }
+    visited_.push_back(current_.fovea_m);
     JumpTo(place, "candidate", &current_);
   }
 }

@@ -123,6 +123,9 @@ struct Looks {
   int left = 0;                       // looks the frame may take after its first
   float radius_m = 0.1f;              // a place this near a seen one is seen (same_target_m)
   float enough_confidence = 0.9f;     // a sighting this confident ends the frame's looks
+  /// A search from nothing moves its fovea to the last look; a lost target's search keeps its
+  /// fovea where the target was lost (G grows there) and looks at candidates beside it.
+  bool moves_fovea = true;
   /// Recognizes the frame at further places after its first look at `first_m` whose
   /// sightings are in `found`: while none of them is enough_confidence (or unverified) and
   /// looks are left, at the best of `places` not seen yet. `look(place, &found)` recognizes
@@ -153,13 +156,16 @@ class Attention {
   /// there: the search counts that as its landing. Call before that frame's Update. Ignored
   /// when the landing is done already or the fovea was given again since (a command).
   void Landed(const Eigen::Vector3f& aim_m, const Eigen::Vector3f& landed_m);
-  /// The looks a frame foveated at the current fixation may take besides its first: none
-  /// unless attention visits candidates (a search with no target, before G grows), and none
-  /// on a command's aim (Fixation::aimed) not landed yet.
+  /// The looks a frame foveated at the current fixation may take besides its first, at the
+  /// frame's candidates (attention.search: candidates): a search with no target before G
+  /// grows, and a lost target's search while G grows where it was lost (an object that moved
+  /// while unseen is found where it went); none on a command's aim (Fixation::aimed) not
+  /// landed yet, none past G_max.
   Looks PlanLooks() const;
   /// The frame foveated at the fixation of `frame_seq`, first recognized at `first_m` (the
   /// fovea, or where it landed: call Landed first), also recognized at `looks` (Looks::Take):
-  /// each is one of the search's candidate visits, the fovea ending on the last. Call before
+  /// each is one of the search's candidate visits, the fovea ending on the last (a search from
+  /// nothing; a lost target's fovea stays). Call before
   /// that frame's Update. Ignored when the fixation changed since (a command).
   void Looked(std::int64_t frame_seq, const Eigen::Vector3f& first_m,
               const std::vector<Eigen::Vector3f>& looks);

@@ -221,8 +221,8 @@ void RecognizeStage::Process(Job* job) {
     else if (c.saccade_fallback)
       job->salient = SalientRegions(*frame.cloud, c.saliency);
   }
-  // A search from nothing may look at its next candidates in this frame too, until one holds
-  // an instance confident enough to start a track (attention.looks_per_frame).
+  // A search may look at its next candidates in this frame too, until one holds an instance
+  // confident enough to start a track (attention.looks_per_frame, Attention::PlanLooks).
   if (job->plan.left > 0 && c.search_candidates && q.foveated && job->sweep_phase < 0 &&
       !job->recheck_at) {
     Looks plan = job->plan;
@@ -238,7 +238,7 @@ void RecognizeStage::Process(Job* job) {
                                  masked ? job->models : std::vector<bool>{}, parallel, &error);
                              for (Detection& d : seen.instances) found->push_back(std::move(d));
                            });
-    if (!job->looks.empty()) out.fovea_m = job->looks.back();
+    if (!job->looks.empty() && plan.moves_fovea) out.fovea_m = job->looks.back();
     if (!error.empty()) Log(LogLevel::kDebug, "frame " + std::to_string(out.seq) + ": " + error);
   }
   out.recognize_ms = static_cast<float>(Ms(t0, SteadyNowNs()));

@@ -318,6 +318,41 @@ TEST(Attention, ASearchFrameLooksAtItsNextCandidatesUntilOneHoldsTheObject) {
   EXPECT_GT(f.growth_m, 0.0f);
 }
 
+TEST(Attention, ALostTargetsSearchLooksAtCandidatesBesideWhereItWasLost) {
+  AttentionOptions o;  // three looks a frame, eight candidate visits
+  const std::vector<Eigen::Vector3f> places = {
+      Eigen::Vector3f(0.4f, 0, 1), Eigen::Vector3f(-0.4f, 0, 1), Eigen::Vector3f(0.8f, 0, 1),
+      Eigen::Vector3f(-0.8f, 0, 1)};
+  Attention a(o, Eigen::Vector3f(0, 0, 1));
+  a.Update(1, 0.0, {Seen(0.0f, 0.95f)}, places);
+  EXPECT_EQ(a.PlanLooks().left, 0);           // following a target
+  Fixation f = a.Update(2, 0.1, {}, places);  // lost: G grows where it was
+  ASSERT_EQ(f.reason, "lost");
+  const Eigen::Vector3f where = f.fovea_m;
+  const Looks plan = a.PlanLooks();
+  EXPECT_EQ(plan.left, 2);
+  EXPECT_FALSE(plan.moves_fovea);
+  std::vector<Detection> none;
+  const std::vector<Eigen::Vector3f> looks =
+      plan.Take(where, places, &none, [](const Eigen::Vector3f&, std::vector<Detection>*) {});
+  ASSERT_EQ(looks.size(), 2u);
+  a.Looked(2, where, looks);
+  EXPECT_TRUE(a.current().fovea_m.isApprox(where));  // the fovea stays, G keeps growing
+  f = a.Update(3, 0.2, {}, places);
+  EXPECT_TRUE(f.fovea_m.isApprox(where));
+  EXPECT_GT(f.growth_m, 0.1f);
+  // The next frame looks at the candidates not looked at yet.
+  const std::vector<Eigen::Vector3f> next = a.PlanLooks().Take(
+      where, places, &none, [](const Eigen::Vector3f&, std::vector<Detection>*) {});
+  ASSERT_EQ(next.size(), 2u);
+  EXPECT_TRUE(next[0].isApprox(places[2]));
+  EXPECT_TRUE(next[1].isApprox(places[3]));
+  // Seen at a candidate, it is followed there.
+  f = a.Update(4, 0.3, {Seen(0.8f, 0.95f)}, places);
+  EXPECT_EQ(f.mode, AttentionMode::kTracking);
+  EXPECT_TRUE(f.fovea_m.isApprox(Eigen::Vector3f(0.8f, 0, 1)));
+}
+
 TEST(Attention, AlternatesBetweenInstancesAndModelsOnePerFrame) {
   AttentionOptions o;
   o.max_targets = 3;
