@@ -8,6 +8,19 @@
 #include <limits>
 
 namespace saccade {
+namespace {
+
+// The first of `places` farther than `radius_m` from every place in `seen`.
+std::vector<Eigen::Vector3f>::const_iterator FirstFarFrom(
+    const std::vector<Eigen::Vector3f>& places, const std::vector<Eigen::Vector3f>& seen,
+    float radius_m) {
+  return std::find_if(places.begin(), places.end(), [&](const Eigen::Vector3f& p) {
+    return std::none_of(seen.begin(), seen.end(),
+                        [&](const Eigen::Vector3f& v) { return (p - v).norm() < radius_m; });
+  });
+}
+
+}  // namespace
 
 bool AttentionOptions::IsValid(std::string* error) const {
   const auto finite = [](float v) { return std::isfinite(v); };
@@ -76,10 +89,7 @@ std::vector<Eigen::Vector3f> Looks::Take(
   };
   while (static_cast<int>(looked.size()) < left &&
          std::none_of(found->begin(), found->end(), enough)) {
-    const auto pick = std::find_if(places.begin(), places.end(), [&](const Eigen::Vector3f& p) {
-      return std::none_of(near.begin(), near.end(),
-                          [&](const Eigen::Vector3f& v) { return (p - v).norm() < radius_m; });
-    });
+    const auto pick = FirstFarFrom(places, near, radius_m);
     if (pick == places.end()) break;
     looked.push_back(*pick);
     near.push_back(*pick);
@@ -302,10 +312,7 @@ Fixation Attention::Update(std::int64_t frame_seq, double time_s,
 // The first of `places` farther than `radius_m` from every place visited in this search.
 std::vector<Eigen::Vector3f>::const_iterator Attention::FirstUnvisited(
     const std::vector<Eigen::Vector3f>& places, float radius_m) const {
-  return std::find_if(places.begin(), places.end(), [&](const Eigen::Vector3f& p) {
-    return std::none_of(visited_.begin(), visited_.end(),
-                        [&](const Eigen::Vector3f& v) { return (p - v).norm() < radius_m; });
-  });
+  return FirstFarFrom(places, visited_, radius_m);
 }
 
 // A search's jump: the fovea to `place` at G_min.

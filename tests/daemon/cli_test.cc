@@ -930,9 +930,9 @@ TEST(Cli, EvalWritesTablesCurvesSweepAndPlots) {
   EXPECT_EQ(offsets.front()[1], "0");
   EXPECT_EQ(offsets.front()[5], offsets.front()[2]);  // found on the first frame...
   EXPECT_EQ(offsets.front()[6], "1");
-  EXPECT_EQ(offsets.back()[2], "0");  // ...35 cm off not in one frame...
-  EXPECT_EQ(offsets.back()[5], "2");  // ...but by the attention loop
-  EXPECT_GE(std::stod(offsets.back()[6]), 1.0);
+  EXPECT_EQ(offsets.back()[2], "0");                    // ...35 cm off not in one frame...
+  EXPECT_EQ(offsets.back()[5], "2");                    // ...but by the attention loop
+  EXPECT_DOUBLE_EQ(std::stod(offsets.back()[6]), 1.0);  // in the loop's first frame
   EXPECT_EQ(offsets.back()[7], "0");
 }
 
