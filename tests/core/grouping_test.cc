@@ -98,6 +98,48 @@ TEST(ConsensusGroup, FindsThePoseTheAgreeingFramesGiveAmongRandomMatches) {
   EXPECT_EQ(merged[0].votes, 20);
 }
 
+// Matches agree with a pose wherever on the model they lie, its farthest points included, and
+// however far off the other matches lie: only scene points farther from the pose's centroid than
+// the model reaches are left untried.
+TEST(ConsensusGroup, CountsMatchesAtTheModelsFarthestPointsAmongFarClutter) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1, 1);
+  Eigen::Affine3f X(Eigen::AngleAxisf(0.6f, Eigen::Vector3f(1, 1, 0).normalized()));
+  X.translation() = Eigen::Vector3f(-0.3f, 0.2f, 1.4f);
+  const Eigen::Vector3f centre(0.05f, -0.02f, 0.01f);
+  Cloud model, scene;
+  Descriptors md, sd;
+  std::vector<std::pair<int, int>> corr;
+  const int kAgreeing = 12, kClutter = 300;
+  for (int i = 0; i < kAgreeing + kClutter; ++i) {
+    PointT p, q;
+    // Every agreeing model point 15 cm from the centroid: the model's reach.
+    p.getVector3fMap() = centre + 0.15f * Eigen::Vector3f(u(rng), u(rng), u(rng)).normalized();
+    const Eigen::Matrix3f L = Eigen::Matrix3f::Identity();
+    if (i < kAgreeing) {
+      q.getVector3fMap() = X * p.getVector3fMap();
+      sd.lrf.push_back(L * X.linear().transpose());
+    } else {
+      // Clutter over a 4 m room, its frames agreeing with nothing in particular.
+      q.getVector3fMap() = 2.0f * Eigen::Vector3f(u(rng), u(rng), 1 + u(rng));
+      sd.lrf.push_back(Eigen::AngleAxisf(3 * u(rng), Eigen::Vector3f(u(rng), u(rng), u(rng))
+                                                         .normalized()).toRotationMatrix());
+    }
+    model.push_back(p);
+    scene.push_back(q);
+    md.keypoint.push_back(i);
+    md.lrf.push_back(L);
+    sd.keypoint.push_back(i);
+    corr.emplace_back(i, i);
+  }
+  RecognitionOptions o;
+  o.pose_inlier_threshold_m = 0.01f;
+  const std::vector<Detection> found = ConsensusGroup(md, model, centre, sd, scene, corr, o);
+  ASSERT_FALSE(found.empty());
+  EXPECT_TRUE(found[0].model_to_scene.isApprox(X.matrix(), 1e-3f)) << found[0].model_to_scene;
+  EXPECT_EQ(found[0].votes, kAgreeing);
+}
+
 // A cube's 24 turns onto itself about its centre, its frame's axes onto each other.
 std::vector<Eigen::Matrix3f> CubeTurns() {
   std::vector<Eigen::Matrix3f> out;
