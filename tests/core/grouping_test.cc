@@ -122,8 +122,9 @@ TEST(ConsensusGroup, CountsMatchesAtTheModelsFarthestPointsAmongFarClutter) {
     } else {
       // Clutter over a 4 m room, its frames agreeing with nothing in particular.
       q.getVector3fMap() = 2.0f * Eigen::Vector3f(u(rng), u(rng), 1 + u(rng));
-      sd.lrf.push_back(Eigen::AngleAxisf(3 * u(rng), Eigen::Vector3f(u(rng), u(rng), u(rng))
-                                                         .normalized()).toRotationMatrix());
+      sd.lrf.push_back(
+          Eigen::AngleAxisf(3 * u(rng), Eigen::Vector3f(u(rng), u(rng), u(rng)).normalized())
+              .toRotationMatrix());
     }
     model.push_back(p);
     scene.push_back(q);
