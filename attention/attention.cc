@@ -361,7 +361,7 @@ Looks Attention::PlanLooks() const {
   Looks looks;
   looks.radius_m = options_.same_target_m;
   looks.enough_confidence = options_.acquire_confidence;
-  const bool growing = current_.growth_m > options_.growth_min_m || saccading_;
+  const bool growing = current_.growth_m > options_.growth_min_m;
   const bool lost = !targets_.empty();  // searched for where it was lost, G growing
   // A command's aim is looked at alone in its frame, as asked.
   if (options_.search != SearchKind::kCandidates || current_.mode != AttentionMode::kSearching ||
