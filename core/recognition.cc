@@ -184,12 +184,28 @@ void GroupAndVerify(const ModelDescription& model, const Cloud& scene,
   result->hypotheses = result->instances;
   stats.stage_ms.emplace_back("group", MsSince(t));
 
-  // 6. Keep the hypotheses the scene confirms, refined.
+  // 6. Keep the hypotheses whose votes stand out of the model's matches and the scene
+  // confirms, refined.
   t = Clock::now();
-  if (options.verify.enabled)
-    result->instances = VerifyInstances(model.verification(), model.centroid(), scene,
-                                        described.intrinsics, std::move(result->instances),
-                                        options.verify, parallel_for, &result->verdicts);
+  const double min_votes =
+      options.min_vote_significance * std::sqrt(double(correspondences.size()));
+  std::vector<Detection> significant;
+  std::vector<std::size_t> significant_index;  // into result->hypotheses
+  for (std::size_t h = 0; h < result->instances.size(); ++h)
+    if (result->instances[h].votes >= min_votes) {
+      significant.push_back(std::move(result->instances[h]));
+      significant_index.push_back(h);
+    }
+  result->instances = std::move(significant);
+  if (options.verify.enabled) {
+    std::vector<Verdict> verdicts;
+    result->instances =
+        VerifyInstances(model.verification(), model.centroid(), scene, described.intrinsics,
+                        std::move(result->instances), options.verify, parallel_for, &verdicts);
+    result->verdicts.assign(result->hypotheses.size(), Verdict::kFewVotes);
+    for (std::size_t i = 0; i < verdicts.size(); ++i)
+      result->verdicts[significant_index[i]] = verdicts[i];
+  }
   stats.stage_ms.emplace_back("verify", MsSince(t));
 }
 

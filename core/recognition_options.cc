@@ -53,6 +53,8 @@ bool RecognitionOptions::IsValid(std::string* error) const {
     return Fail(error, "model_min_relief must be in [0, 1)");
   if (!std::isfinite(max_described_density_m) || max_described_density_m < 0)
     return Fail(error, "max_described_density_m must be finite and >= 0");
+  if (!(min_vote_significance >= 0 && min_vote_significance <= 100))
+    return Fail(error, "min_vote_significance must be from 0 to 100");
   if (!(library_radius_ratio >= 1 && library_radius_ratio <= 4))
     return Fail(error, "library_radius_ratio must be from 1 to 4");
   return verify.IsValid(error);

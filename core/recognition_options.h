@@ -68,6 +68,12 @@ struct RecognitionOptions {
   bool consensus_grouping = true;
   int consensus_min_votes = 4;       // matches that must agree on a proposed pose
   int consensus_max_hypotheses = 8;  // proposals at most, most agreed first
+  /// A hypothesis is verified only when its votes reach this x the square root of the matches
+  /// its model won in the frame: a plain or flat model wins thousands of a frame's descriptors
+  /// (table, walls) and some agree by chance; votes that stand out of a model's own matches as
+  /// a count stands out of its noise do not. 0: no bar beyond hough_threshold. (Chosen on the
+  /// library benchmark, docs/RESULTS.md "Votes that stand out".)
+  float min_vote_significance = 0.4f;
   /// Hypothesis verification after grouping (ICP, surface and free-space checks, colour).
   VerificationOptions verify;
   /// Replace the radii above (keypoints, SHOT, LRF, Hough bin, pose inliers) by ones fitted to
@@ -112,6 +118,7 @@ struct RecognitionOptions {
     a->Visit("library_radius_ratio", &library_radius_ratio);
     a->Visit("consensus_grouping", &consensus_grouping);
     a->Visit("consensus_min_votes", &consensus_min_votes);
+    a->Visit("min_vote_significance", &min_vote_significance);
     a->Visit("consensus_max_hypotheses", &consensus_max_hypotheses);
     verify.Serialize(a);
   }

@@ -369,6 +369,8 @@ const char* VerdictName(Verdict v) {
       return "unconfident";
     case Verdict::kTakenByBetter:
       return "taken_by_better";
+    case Verdict::kFewVotes:
+      return "few_votes";
   }
   return "?";
 }

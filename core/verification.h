@@ -129,6 +129,7 @@ enum class Verdict {
   kNoOutline,      // the scene's surface continues past its outline (max_continued)
   kUnconfident,    // its confidence is below min_confidence
   kTakenByBetter,  // a better instance already explains its points or overlaps it
+  kFewVotes,       // not verified: its votes do not stand out of its model's matches
 };
 const char* VerdictName(Verdict v);
 

@@ -142,7 +142,8 @@ void StripColour(std::vector<EvalModel>* models, std::vector<Scene>* scenes) {
   }
 }
 
-// library.csv (a row per capture and size) and library.md (the summary), into `dir`.
+// library.csv (a row per capture and size), library_instances.csv (every model's instances
+// before the library chose between models) and library.md (the summary), into `dir`.
 int WriteLibraryReport(const fs::path& dir, const std::vector<eval::LibraryRow>& rows,
                        std::ostream& out, std::ostream& err) {
   std::error_code ec;
@@ -155,13 +156,26 @@ int WriteLibraryReport(const fs::path& dir, const std::vector<eval::LibraryRow>&
     csv << r.scene << "," << r.size << "," << r.instances << "," << r.found << ","
         << r.false_instances << "," << r.descriptions << "," << r.ms << "," << r.describe_ms << ","
         << r.match_ms << "," << r.group_ms << "," << r.verify_ms << "," << r.detail << "\n";
+  std::ostringstream instances;
+  instances << "scene,models,identity,label,kept,confidence,fitness,coverage,continued,colour,"
+               "texture,votes,matches,model_points,model_size_m,spacing_m,x,y,z\n";
+  for (const eval::LibraryRow& r : rows)
+    for (const eval::LibraryInstance& c : r.candidates)
+      instances << r.scene << "," << r.size << "," << c.identity << "," << c.label << ","
+                << int(c.kept) << "," << c.confidence << "," << c.fitness << "," << c.coverage
+                << "," << c.continued << "," << c.colour_agreement << "," << c.texture_agreement
+                << "," << c.votes << "," << c.matches << "," << c.model_points << ","
+                << c.model_size_m << "," << c.spacing_m << "," << c.centroid_m.x() << ","
+                << c.centroid_m.y() << "," << c.centroid_m.z() << "\n";
   const std::string summary = eval::LibrarySummary(rows);
   if (ec || !WriteBytes((dir / "library.csv").string(), csv.str(), &error) ||
+      !WriteBytes((dir / "library_instances.csv").string(), instances.str(), &error) ||
       !WriteBytes((dir / "library.md").string(), summary, &error)) {
     err << "saccade eval: " << (ec ? dir.string() + ": " + ec.message() : error) << "\n";
     return kExitFailure;
   }
-  out << summary << "written to " << dir.string() << "/: library.csv library.md\n";
+  out << summary << "written to " << dir.string()
+      << "/: library.csv library_instances.csv library.md\n";
   return kExitOk;
 }
 

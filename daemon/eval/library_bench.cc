@@ -236,6 +236,36 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
         row.found += claimed[t];
         if (!claimed[t]) detail << truth[t].identity << ":missed ";
       }
+      for (const RecognitionResult& r : result.per_model)
+        for (const Detection& d : r.instances) {
+          const LibraryModel& m = *models[std::size_t(d.model)];
+          LibraryInstance c;
+          c.identity = m.identity;
+          const Eigen::Vector3f at = m.scored.ScoredPoint(d.model_to_scene);
+          float best_distance = options.tolerance_m;
+          for (std::size_t t = 0; t < truth.size(); ++t) {
+            const float distance = (truth[t].centroid - at).norm();
+            if (truth[t].identity == m.identity && distance <= best_distance)
+              c.label = truth[t].object, best_distance = distance;
+          }
+          c.kept =
+              std::any_of(result.instances.begin(), result.instances.end(), [&](const auto& k) {
+                return k.model == d.model && k.model_to_scene == d.model_to_scene;
+              });
+          c.confidence = d.confidence;
+          c.fitness = d.fitness;
+          c.coverage = d.coverage;
+          c.continued = d.continued;
+          c.colour_agreement = d.colour_agreement;
+          c.texture_agreement = d.texture_agreement;
+          c.votes = d.votes;
+          c.matches = int(r.stats.correspondences);
+          c.model_points = int(m.description->cloud().size());
+          c.model_size_m = m.description->scale().size_m;
+          c.spacing_m = m.description->scale().spacing_m;
+          c.centroid_m = d.centroid_m;
+          row.candidates.push_back(c);
+        }
       row.detail = detail.str();
       if (!row.detail.empty()) row.detail.pop_back();
       if (options.log)

@@ -8,6 +8,8 @@
 #include "core/parallel.h"
 #include "core/recognition_options.h"
 
+#include <Eigen/Core>
+
 #include <ostream>
 #include <string>
 #include <vector>
@@ -26,6 +28,22 @@ struct LibraryBenchOptions {
   std::ostream* log = nullptr;  // progress, one line per capture
 };
 
+/// One model's instance before the library chose between models that claim one place: how
+/// its arbitration can be studied (library_instances.csv).
+struct LibraryInstance {
+  std::string identity;  // its model's
+  int label = -1;        // the labelled object of its identity within the tolerance, or -1
+  bool kept = false;     // among the library's instances
+  float confidence = -1, fitness = -1, coverage = -1, continued = -1;
+  float colour_agreement = -1, texture_agreement = -1;
+  int votes = 0;
+  int matches = 0;         // the frame's descriptors its model won
+  int model_points = 0;    // its model's points
+  float model_size_m = 0;  // its model's size
+  float spacing_m = 0;     // its model's point spacing
+  Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();
+};
+
 /// One capture searched with one library.
 struct LibraryRow {
   std::string scene;
@@ -36,7 +54,8 @@ struct LibraryRow {
   double ms = 0;            // the library search (describing the frame, matching, grouping)
   int descriptions = 0;     // descriptions of the frame it made (radii)
   double describe_ms = 0, match_ms = 0, group_ms = 0, verify_ms = 0;  // LibraryResult's
-  std::string detail;  // "identity:found|missed|false ..." for the record
+  std::string detail;                       // "identity:found|missed|false ..." for the record
+  std::vector<LibraryInstance> candidates;  // every model's instances, kept or not
 };
 
 /// Runs every size over every capture the cases search. False with `error` when a file

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 namespace saccade {
@@ -151,6 +152,42 @@ TEST(FitRadii, MilkCartonIsFoundWithRadiiFittedToItsModel) {
   ExpectFoundAt(Recognize(*model, Load(kScene), q, o), *model, *truth);
 }
 
+// The carton's votes against the square root of the matches the model won: a bar just below
+// lets it be verified, one just above leaves it unverified (few_votes) and reports nothing.
+TEST(MinVoteSignificance, VerifiesOnlyVotesThatStandOutOfTheModelsMatches) {
+  SACCADE_REQUIRE_DATA(kScene);
+  SACCADE_REQUIRE_DATA(kMilkModel);
+  const auto truth = MilkTruth();
+  ASSERT_TRUE(truth);
+  const auto model = Describe(kMilkModel);
+  ASSERT_TRUE(model);
+  const Cloud scene = Load(kScene);
+  SceneQuery q;
+  q.fovea_m = kCartonCentre;
+  RecognitionOptions o;
+  o.min_vote_significance = 0;
+  const RecognitionResult all = Recognize(*model, scene, q, o);
+  ExpectFoundAt(all, *model, *truth);
+  const double z = all.instances[0].votes / std::sqrt(double(all.stats.correspondences));
+  ASSERT_GT(z, 0.2) << "the carton's votes should stand out of its matches";
+
+  o.min_vote_significance = float(z * 0.99);
+  ExpectFoundAt(Recognize(*model, scene, q, o), *model, *truth);
+
+  o.min_vote_significance = float(z * 1.01);
+  const RecognitionResult above = Recognize(*model, scene, q, o);
+  EXPECT_TRUE(above.instances.empty());
+  ASSERT_EQ(above.verdicts.size(), above.hypotheses.size());
+  std::size_t few = 0;
+  for (std::size_t h = 0; h < above.hypotheses.size(); ++h) {
+    const bool below =
+        above.hypotheses[h].votes < z * 1.01 * std::sqrt(double(all.stats.correspondences));
+    EXPECT_EQ(above.verdicts[h] == Verdict::kFewVotes, below) << "hypothesis " << h;
+    few += below;
+  }
+  EXPECT_GE(few, 1u);
+}
+
 TEST(RecognitionOptions, InvalidValuesNameTheField) {
   RecognitionOptions o;
   o.hough_bin_m = 0;
@@ -161,6 +198,10 @@ TEST(RecognitionOptions, InvalidValuesNameTheField) {
   o.scene_shot_radius_m = NAN;
   EXPECT_FALSE(o.IsValid(&error));
   EXPECT_NE(error.find("scene_shot_radius_m"), std::string::npos);
+  o = RecognitionOptions{};
+  o.min_vote_significance = -1;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("min_vote_significance"), std::string::npos);
 }
 
 TEST(VerifyInstances, KeepsTheTruePoseAndRejectsWrongOnes) {
