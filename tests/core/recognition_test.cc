@@ -43,6 +43,16 @@ std::optional<ModelDescription> Describe(const char* relative) {
   return model;
 }
 
+// The milk model described with the default options and its true pose in the milk scene
+// (nullopt, the failure reported, when either cannot be had).
+std::optional<std::pair<std::optional<ModelDescription>, std::optional<Eigen::Matrix4f>>>
+DescribedMilk() {
+  auto truth = MilkTruth();
+  auto model = Describe(kMilkModel);
+  if (!truth || !model) return std::nullopt;
+  return std::make_pair(std::move(model), truth);
+}
+
 // Exactly one instance, within 1 cm at the model centroid and 3 degrees of the truth.
 void ExpectFoundAt(const RecognitionResult& r, const ModelDescription& model,
                    const Eigen::Matrix4f& truth) {
@@ -75,10 +85,9 @@ TEST_P(MilkScene, CutOutCartonIsFoundAtTheIdentity) {
 TEST_P(MilkScene, ModelInItsOwnFrameIsFoundAtTheTruePose) {
   SACCADE_REQUIRE_DATA(kScene);
   SACCADE_REQUIRE_DATA(kMilkModel);
-  const auto truth = MilkTruth();
-  ASSERT_TRUE(truth);
-  const auto model = Describe(kMilkModel);
-  ASSERT_TRUE(model);
+  const auto milk = DescribedMilk();
+  ASSERT_TRUE(milk);
+  const auto& [model, truth] = *milk;
   SceneQuery q;
   q.foveated = GetParam();
   q.fovea_m = kCartonCentre;
@@ -157,10 +166,9 @@ TEST(FitRadii, MilkCartonIsFoundWithRadiiFittedToItsModel) {
 TEST(MinVoteSignificance, VerifiesOnlyVotesThatStandOutOfTheModelsMatches) {
   SACCADE_REQUIRE_DATA(kScene);
   SACCADE_REQUIRE_DATA(kMilkModel);
-  const auto truth = MilkTruth();
-  ASSERT_TRUE(truth);
-  const auto model = Describe(kMilkModel);
-  ASSERT_TRUE(model);
+  const auto milk = DescribedMilk();
+  ASSERT_TRUE(milk);
+  const auto& [model, truth] = *milk;
   const Cloud scene = Load(kScene);
   SceneQuery q;
   q.fovea_m = kCartonCentre;
