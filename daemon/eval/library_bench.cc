@@ -207,17 +207,25 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
       row.group_ms = result.group_ms;
       row.verify_ms = result.verify_ms;
       std::vector<bool> claimed(truth.size(), false);
-      std::ostringstream detail;
-      for (const Detection& d : result.instances) {
+      // The nearest labelled object of `d`'s identity within the tolerance and not in `taken`
+      // (may be null): its index into `truth`, or truth.size().
+      const auto nearest_label = [&](const Detection& d, const std::vector<bool>* taken) {
         const LibraryModel& m = *models[std::size_t(d.model)];
         const Eigen::Vector3f at = m.scored.ScoredPoint(d.model_to_scene);
         std::size_t best = truth.size();
         float best_distance = options.tolerance_m;
         for (std::size_t t = 0; t < truth.size(); ++t) {
           const float distance = (truth[t].centroid - at).norm();
-          if (!claimed[t] && truth[t].identity == m.identity && distance <= best_distance)
+          if (!(taken && (*taken)[t]) && truth[t].identity == m.identity &&
+              distance <= best_distance)
             best = t, best_distance = distance;
         }
+        return best;
+      };
+      std::ostringstream detail;
+      for (const Detection& d : result.instances) {
+        const LibraryModel& m = *models[std::size_t(d.model)];
+        const std::size_t best = nearest_label(d, &claimed);
         char confidence[16];
         std::snprintf(confidence, sizeof confidence, ":%.3f ", double(d.confidence));
         if (best < truth.size()) {
@@ -241,13 +249,8 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
           const LibraryModel& m = *models[std::size_t(d.model)];
           LibraryInstance c;
           c.identity = m.identity;
-          const Eigen::Vector3f at = m.scored.ScoredPoint(d.model_to_scene);
-          float best_distance = options.tolerance_m;
-          for (std::size_t t = 0; t < truth.size(); ++t) {
-            const float distance = (truth[t].centroid - at).norm();
-            if (truth[t].identity == m.identity && distance <= best_distance)
-              c.label = truth[t].object, best_distance = distance;
-          }
+          if (const std::size_t t = nearest_label(d, nullptr); t < truth.size())
+            c.label = truth[t].object;
           c.kept =
               std::any_of(result.instances.begin(), result.instances.end(), [&](const auto& k) {
                 return k.model == d.model && k.model_to_scene == d.model_to_scene;
