@@ -17,7 +17,8 @@ namespace saccade {
 struct GroundTruth {
   Eigen::Isometry3f target_pose = Eigen::Isometry3f::Identity();  // X_CO
   Eigen::Vector3f centroid_m = Eigen::Vector3f::Zero();  // centre of the target's bounding box
-  /// Visible target pixels over those it covers rendered alone (0 when out of view).
+  /// Visible target pixels over those it would cover rendered alone in an image without edges
+  /// (0 when out of view; an object half out of the image is half visible).
   float visible_fraction = 0.0f;
   /// Further objects of the frame, as the target above (a capture sequence's `others`, in that
   /// order); centroid_m of these is the centroid of their points.

@@ -175,9 +175,14 @@ ScenarioFrame RenderScenarioFrame(const Scenario& sc, int index, const CameraInt
   // One seed per frame: the same frame renders the same every time.
   const std::uint32_t seed = sc.seed * 7919u + static_cast<std::uint32_t>(index);
   out.rendered = RenderScene(objects, sc.table_height_m, k, sc.noise, seed);
-  // The target alone, counted over its own pixels only: what of it the sensor would see.
+  // The target alone, counted over its own pixels only: what of it the sensor would see
+  // unoccluded, were the image not cut at its edges (a sliver at the edge is not the object in
+  // view: the image is widened by its own size on every side).
+  CameraIntrinsics unbounded = k;
+  unbounded.width = 3 * k.width, unbounded.height = 3 * k.height;
+  unbounded.cx += k.width, unbounded.cy += k.height;
   const std::size_t whole =
-      CountReturns({objects.front()}, sc.table_height_m, k, sc.noise, kTargetLabel);
+      CountReturns({objects.front()}, sc.table_height_m, unbounded, sc.noise, kTargetLabel);
   const auto seen = std::count(out.rendered.label.begin(), out.rendered.label.end(), kTargetLabel);
   out.truth.visible_fraction =
       whole > 0 ? static_cast<float>(seen) / static_cast<float>(whole) : 0.0f;
