@@ -157,6 +157,13 @@ void TrackSet::Refine(const TrackFrame& frame, const std::vector<TrackModel>& mo
     return;
   }
   t->motion = r.model_to_camera * t->pose.inverse();
+  if (r.turn_held) {
+    // A held turn is the prediction's: taken again on every frame it would spin an object that
+    // waits at the image's edge. The centroid's move is the motion.
+    const Eigen::Vector3f& c = models[std::size_t(t->model)].centroid;
+    t->motion = Eigen::Matrix4f::Identity();
+    t->motion.topRightCorner<3, 1>() = CentroidOf(r.model_to_camera, c) - CentroidOf(t->pose, c);
+  }
   t->motion_dt_s = frame.time_s - t->time_s;
   t->pose = r.model_to_camera;
   t->time_s = frame.time_s;
@@ -461,7 +468,7 @@ class TrackSet::Matching {
     if (!MoveBetweenSightings(t, d)) return;
     const Eigen::Matrix4f tracked = t->pose;
     const TrackResult r = TakePose(t, d);
-    if (!r.tracking) {
+    if (!r.tracking || AtImageEdge(*t, r, tracked)) {
       t->pose = tracked;
       return;
     }
@@ -472,19 +479,30 @@ class TrackSet::Matching {
   // A confirmed track takes recognition's pose, refined on the frame, when that lays more of
   // the model on the frame than the track's own pose: tracking can slide along an object's
   // faces (a cube cut from one view misses a face that would stop it) where recognition,
-  // which matches the whole shape, does not.
+  // which matches the whole shape, does not. Not at the image's edge (AtImageEdge).
   void Realign(Track* t, const Detection& d) {
     if (!FrameUsable(frame_)) return;
     const VerificationModel& m = *models_[std::size_t(t->model)].points;
     const TrackResult r =
         TrackPose(m, *frame_.cloud, frame_.intrinsics, d.model_to_scene, options().refine);
-    if (!r.tracking ||
+    if (!r.tracking || AtImageEdge(*t, r, t->pose) ||
         r.inliers <=
             ScorePose(m, *frame_.cloud, frame_.intrinsics, t->pose, options().refine).inliers)
       return;
     t->pose = r.model_to_camera;
     t->fitness = r.fitness;
     t->coverage = r.coverage;
+  }
+
+  // Recognition's pose `r` (refined) against the track's own `pose`, where either puts too
+  // little of the object in the image for the tracker to turn it: there recognition's turn
+  // went unchecked, and a pose wins the comparison by turning more of the model into view. The
+  // track keeps its own.
+  bool AtImageEdge(const Track& t, const TrackResult& r, const Eigen::Matrix4f& pose) const {
+    const TrackOptions& o = options().refine;
+    return r.turn_held || ScorePose(*models_[std::size_t(t.model)].points, *frame_.cloud,
+                                    frame_.intrinsics, pose, o)
+                                  .in_image < o.min_in_image_to_turn;
   }
 
   TrackSet& set_;

@@ -60,6 +60,22 @@ std::optional<Pair> PairOf(const VerificationModel& model, std::size_t i, const 
   return Pair{p, *seen};
 }
 
+// The share of the model's points facing the camera at X_CM that project inside the image (1
+// when none faces it).
+float InImageShare(const VerificationModel& model, const CameraIntrinsics& k,
+                   const Eigen::Isometry3f& X_CM) {
+  int facing = 0, inside = 0;
+  for (std::size_t i = 0; i < model.points.size(); ++i) {
+    const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
+    const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
+    if (!(p.z() > 0.05f) || !n.allFinite() || n.dot(p) >= 0) continue;
+    ++facing;
+    const Eigen::Vector2d uv = k.Project(p);
+    inside += uv.x() > -0.5 && uv.y() > -0.5 && uv.x() < k.width - 0.5 && uv.y() < k.height - 0.5;
+  }
+  return facing > 0 ? float(inside) / float(facing) : 1.0f;
+}
+
 // The score of pose X_CM (its facing, inliers, free space, fitness, coverage, residual).
 TrackResult Score(const VerificationModel& model, const Cloud& frame, const CameraIntrinsics& k,
                   const Eigen::Isometry3f& X_CM, const TrackOptions& o) {
@@ -79,6 +95,7 @@ TrackResult Score(const VerificationModel& model, const Cloud& frame, const Came
     }
   }
   result.model_to_camera = X_CM.matrix();
+  result.in_image = InImageShare(model, k, X_CM);
   if (result.inliers + result.free_space > 0)
     result.fitness = float(result.inliers) / float(result.inliers + result.free_space);
   if (result.facing > 0) result.coverage = float(result.inliers) / float(result.facing);
@@ -105,6 +122,8 @@ bool TrackOptions::IsValid(std::string* error) const {
   if (!(min_coverage >= 0 && min_coverage <= 1))
     return Fail(error, "min_coverage must be in [0, 1]");
   if (normal_step_px < 1) return Fail(error, "normal_step_px must be >= 1");
+  if (!(min_in_image_to_turn >= 0 && min_in_image_to_turn <= 1))
+    return Fail(error, "min_in_image_to_turn must be in [0, 1]");
   return true;
 }
 
@@ -122,6 +141,7 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
   for (const PointT& p : model.points) centre_M += p.getVector3fMap().cast<double>();
   centre_M /= double(std::max<std::size_t>(1, model.points.size()));
 
+  const bool hold_turn = InImageShare(model, k, X_CM) < o.min_in_image_to_turn;
   int iterations = 0;
   for (int it = 0; it < o.iterations; ++it) {
     // Gauss-Newton on the point-to-plane residuals n . (p - q), small motion [w, t] about the
@@ -153,7 +173,11 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
                  translation = JtJ.diagonal().tail<3>().sum() / 3;
     JtJ.diagonal().head<3>().array() += kRotationDamping * rotation;
     JtJ.diagonal().tail<3>().array() += 1e-4 * translation;
-    const Eigen::Matrix<double, 6, 1> x = JtJ.ldlt().solve(-Jte);
+    Eigen::Matrix<double, 6, 1> x = Eigen::Matrix<double, 6, 1>::Zero();
+    if (hold_turn)
+      x.tail<3>() = JtJ.bottomRightCorner<3, 3>().ldlt().solve(-Jte.tail<3>());
+    else
+      x = JtJ.ldlt().solve(-Jte);
     if (!x.allFinite()) break;
     const Eigen::Vector3d w = x.head<3>();
     Eigen::Matrix3d turn = Eigen::Matrix3d::Identity();
@@ -167,6 +191,7 @@ TrackResult TrackPose(const VerificationModel& model, const Cloud& frame, const 
 
   TrackResult result = Score(model, frame, k, X_CM, o);
   result.iterations = iterations;
+  result.turn_held = hold_turn;
   return result;
 }
 

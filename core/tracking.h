@@ -28,6 +28,10 @@ struct TrackOptions {
   float min_fitness = 0.6f;
   float min_coverage = 0.25f;
   int normal_step_px = 2;  // the frame's normal at a pixel from the points this far around it
+  /// Below this share of the model's points that face the camera falling inside the image (an
+  /// object leaving or entering at an edge), only the position is refined and the predicted
+  /// turn is held: the part in view no longer pins the turn down.
+  float min_in_image_to_turn = 0.5f;
 
   bool IsValid(std::string* error) const;
   bool operator==(const TrackOptions& o) const { return SameFields(*this, o); }
@@ -41,20 +45,24 @@ struct TrackOptions {
     a->Visit("min_fitness", &min_fitness);
     a->Visit("min_coverage", &min_coverage);
     a->Visit("normal_step_px", &normal_step_px);
+    a->Visit("min_in_image_to_turn", &min_in_image_to_turn);
   }
 };
 
 /// A refined pose and how well the frame supports it.
 struct TrackResult {
   Eigen::Matrix4f model_to_camera = Eigen::Matrix4f::Identity();  // X_CM after refinement
-  int facing = 0;         // model points facing the camera that project into the image
-  int inliers = 0;        // of those, on the surface seen at their pixel
-  int free_space = 0;     // of those, in front of it by the margin or more
-  float fitness = 0;      // inliers / (inliers + free_space)
-  float coverage = 0;     // inliers / facing
-  float rms_m = 0;        // point-to-plane residual of the inliers
-  int iterations = 0;     // steps taken (fewer when it converged)
-  bool tracking = false;  // fitness and coverage reach the options' minimums
+  int facing = 0;      // model points facing the camera that project into the image
+  int inliers = 0;     // of those, on the surface seen at their pixel
+  int free_space = 0;  // of those, in front of it by the margin or more
+  float fitness = 0;   // inliers / (inliers + free_space)
+  float coverage = 0;  // inliers / facing
+  float rms_m = 0;     // point-to-plane residual of the inliers
+  int iterations = 0;  // steps taken (fewer when it converged)
+  /// Of the model points facing the camera, the share inside the image (1 when none faces it).
+  float in_image = 1;
+  bool turn_held = false;  // too little of it in the image at the start: its turn was kept
+  bool tracking = false;   // fitness and coverage reach the options' minimums
 };
 
 /// Refines `predicted` (X_CM, e.g. the constant-velocity prediction) against `frame`, an

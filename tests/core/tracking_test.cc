@@ -73,6 +73,61 @@ TEST(ScorePose, ScoresThePoseAsGivenAsTrackPoseScoresWhereItEnds) {
   EXPECT_GT(tracked.inliers, as_given.inliers);
 }
 
+// The demo's frame cut at `columns` pixels from the left, as a camera with a narrower image
+// would see it.
+struct CutFrame {
+  Cloud cloud;
+  CameraIntrinsics intrinsics;
+};
+CutFrame LeftColumns(const Cloud& frame, int columns) {
+  CutFrame out;
+  out.intrinsics.width = columns;
+  out.cloud.width = std::uint32_t(columns);
+  out.cloud.height = frame.height;
+  for (std::uint32_t v = 0; v < frame.height; ++v)
+    for (int u = 0; u < columns; ++u) out.cloud.push_back(frame.at(u, v));
+  out.cloud.width = std::uint32_t(columns);
+  out.cloud.height = frame.height;
+  return out;
+}
+
+TEST(TrackPose, AnObjectMostlyOutOfTheImageHasItsPositionRefinedAndItsTurnHeld) {
+  const Demo& d = TheDemo();
+  const Eigen::Vector3f c = d.model->centroid();
+  const CameraIntrinsics full;
+  const int centre_u = int(full.Project(d.demo.truth * c).x());
+  // The image ends a little left of the object's centre: less than half of it is inside.
+  const CutFrame cut = LeftColumns(d.demo.scene.cloud, centre_u - 10);
+  const Eigen::Matrix4f turned =
+      (Eigen::Translation3f(0.01f, 0, 0.005f) * d.demo.truth * Eigen::Translation3f(c) *
+       Eigen::AngleAxisf(0.05f, Eigen::Vector3f::UnitY()) * Eigen::Translation3f(-c))
+          .matrix();
+  const TrackResult held =
+      TrackPose(d.model->verification(), cut.cloud, cut.intrinsics, turned, {});
+  EXPECT_TRUE(held.turn_held);
+  EXPECT_LT(held.in_image, 0.5f);
+  const auto turn_of = [](const Eigen::Matrix4f& m) {
+    return Eigen::Matrix3f(m.topLeftCorner<3, 3>());
+  };
+  EXPECT_TRUE(turn_of(held.model_to_camera).isApprox(turn_of(turned)));
+  EXPECT_LT(ComparePoses(held.model_to_camera, d.demo.truth.matrix(), c).translation_m,
+            ComparePoses(turned, d.demo.truth.matrix(), c).translation_m / 2);
+
+  TrackOptions always_turn;
+  always_turn.min_in_image_to_turn = 0;
+  const TrackResult turning =
+      TrackPose(d.model->verification(), cut.cloud, cut.intrinsics, turned, always_turn);
+  EXPECT_FALSE(turning.turn_held);
+  EXPECT_FALSE(turn_of(turning.model_to_camera).isApprox(turn_of(turned)));
+
+  // In the whole image the same start is turned as well as moved.
+  const TrackResult whole =
+      TrackPose(d.model->verification(), d.demo.scene.cloud, full, turned, {});
+  EXPECT_FALSE(whole.turn_held);
+  EXPECT_EQ(whole.in_image, 1.0f);
+  EXPECT_LT(ComparePoses(whole.model_to_camera, d.demo.truth.matrix(), c).rotation_deg, 1.5);
+}
+
 TEST(TrackOptions, InvalidValuesNameTheField) {
   TrackOptions o;
   o.min_fitness = 2;
@@ -80,6 +135,10 @@ TEST(TrackOptions, InvalidValuesNameTheField) {
   EXPECT_FALSE(o.IsValid(&error));
   EXPECT_NE(error.find("min_fitness"), std::string::npos) << error;
   EXPECT_TRUE(TrackOptions{}.IsValid(&error));
+  o = TrackOptions{};
+  o.min_in_image_to_turn = 1.5f;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("min_in_image_to_turn"), std::string::npos) << error;
 }
 
 }  // namespace
