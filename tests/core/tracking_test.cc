@@ -81,12 +81,10 @@ struct CutFrame {
 };
 CutFrame LeftColumns(const Cloud& frame, int columns) {
   CutFrame out;
-  out.intrinsics.width = columns;
-  out.cloud.width = std::uint32_t(columns);
-  out.cloud.height = frame.height;
+  out.intrinsics.width = columns;  // the same pixels keep the same rays: cx stays
   for (std::uint32_t v = 0; v < frame.height; ++v)
     for (int u = 0; u < columns; ++u) out.cloud.push_back(frame.at(u, v));
-  out.cloud.width = std::uint32_t(columns);
+  out.cloud.width = std::uint32_t(columns);  // push_back left it one row
   out.cloud.height = frame.height;
   return out;
 }
