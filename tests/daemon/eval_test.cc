@@ -2,12 +2,18 @@
 // protocol (b)'s seeded offsets and (c)'s attention loop, and a bad cases file. cli_test.cc
 // runs `saccade eval` itself.
 #include "daemon/eval/evaluation.h"
+#include "daemon/eval/library_bench.h"
 #include "daemon/eval/plots.h"
 
 #include "core/sim/scenario.h"
+#include "support/test_data.h"
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace saccade::eval {
@@ -81,6 +87,80 @@ TEST(EvalCases, AMissingCasesFileIsOneErrorNamingIt) {
 // The plots' script: every plot titled, its axes labelled with units, its legend below the
 // axes, and never more than kMaxSeries series; 18 configurations make three pages, the best
 // (most true positives at 8 cm, then fewest false) on the first.
+// The library benchmark on six cases of the cross-capture benchmark (../shared/data/mosd_xcap):
+// the coffee can in test36 and test38, the cocoa carton and the beige bowl in test62 and test63,
+// each identity a model of its other captures in the file. A cases file of those six and an
+// identities.csv of those four captures' labelled objects are written beside each other.
+TEST(EvalLibrary, ThreeIdentitiesAreSearchedInFourCapturesAndScoredAgainstTheirLabels) {
+  SACCADE_REQUIRE_DATA("mosd_xcap/cases_with_pose.yaml");
+  const std::set<std::string> wanted = {
+      "coffee_can-test36-in-test38",   "coffee_can-test38-in-test36",
+      "cocoa_carton-test62-in-test63", "cocoa_carton-test63-in-test62",
+      "beige_bowl-test63-in-test62",   "beige_bowl-test62-in-test63"};
+  const std::string dir = ::testing::TempDir() + "library_bench/";
+  std::filesystem::create_directories(dir);
+  {
+    std::ifstream in(saccade::testing::DataPath("mosd_xcap/cases_with_pose.yaml"));
+    std::ofstream out(dir + "cases.yaml");
+    out << "cases:\n";
+    bool keep = false;
+    for (std::string line; std::getline(in, line);) {
+      if (line.rfind("  - name: ", 0) == 0) keep = wanted.count(line.substr(10)) > 0;
+      if (keep) out << line << "\n";
+    }
+  }
+  {
+    std::ifstream in(saccade::testing::DataPath("mosd_xcap/identities.csv"));
+    std::ofstream out(dir + "identities.csv");
+    std::string line;
+    std::getline(in, line);
+    out << line << "\n";
+    for (; std::getline(in, line);)
+      for (const char* scene :
+           {"test/test36.pcd,", "test/test38.pcd,", "test/test62.pcd,", "test/test63.pcd,"})
+        if (line.rfind(scene, 0) == 0)
+          out << saccade::testing::DataPath("mosd_xcap/") << line << "\n";
+  }
+  LibraryBenchOptions options;
+  options.sizes = {1, 0};
+  std::vector<LibraryRow> rows;
+  std::string error;
+  ASSERT_TRUE(
+      RunLibraryBench(dir + "cases.yaml", saccade::testing::DataPath(""), options, &rows, &error))
+      << error;
+  ASSERT_EQ(rows.size(), 8u);  // four captures, two sizes
+  std::map<int, int> instances, found, false_instances;
+  for (const LibraryRow& r : rows) {
+    instances[r.size] += r.instances;
+    found[r.size] += r.found;
+    false_instances[r.size] += r.false_instances;
+    const bool can =
+        r.scene.find("test36") != std::string::npos || r.scene.find("test38") != std::string::npos;
+    if (can) {
+      EXPECT_EQ(r.detail.rfind("coffee_can:true:0.99", 0), 0u) << r.scene << ": " << r.detail;
+    }
+    // Three models on two radii of the grid (recognition.library_radius_ratio): two descriptions.
+    EXPECT_EQ(r.descriptions, r.size == 1 ? 1 : 2) << r.scene << " " << r.size;
+    for (const LibraryInstance& c : r.candidates)
+      EXPECT_TRUE(c.identity == "coffee_can" || c.identity == "cocoa_carton" ||
+                  c.identity == "beige_bowl")
+          << c.identity;
+  }
+  // A library of one looks for one object the capture shows; of all three, for each of the
+  // capture's sure objects of the three identities: the can in test36 and test38, the carton and
+  // the bowl in test62 and test63. Today: the can in both (0.99), the bowl in test62; with all
+  // three, the carton in test63 too and the bowl there at 0.56 (alone, its votes do not stand
+  // out of the matches it wins: recognition.min_vote_significance), the carton in test62 missed.
+  // False: a second can beside the can in test36 (0.65), and with three models also one in
+  // test38 and in test63 and a carton on another place of test62 (0.87).
+  EXPECT_EQ(instances[1], 4);
+  EXPECT_EQ(instances[3], 6);
+  EXPECT_EQ(found[1], 3);
+  EXPECT_EQ(found[3], 5);
+  EXPECT_EQ(false_instances[1], 1);
+  EXPECT_EQ(false_instances[3], 4);
+}
+
 TEST(EvalPlots, EighteenConfigurationsMakePagesOfAtMostEightTheBestFirst) {
   std::vector<PlotSeries> configs;
   for (int i = 0; i < 18; ++i) configs.push_back({"c" + std::to_string(i), 0, i});
