@@ -4,7 +4,8 @@
 // its nearest descriptor of any model, so that a frame's cost grows with the number of radii,
 // not of models, and a look-alike's descriptors compete with the object's instead of both
 // winning. Each model then groups and verifies its own matches; where instances of two models
-// claim one place, the more confident one stays.
+// claim one place, the more confident one stays (its colour agreement weighed in again: look-
+// alikes differ in colour more than in shape).
 #pragma once
 
 #include "core/model.h"
@@ -19,7 +20,8 @@ namespace saccade {
 
 struct LibraryResult {
   /// Every model's verified instances (Detection::model names it), best first; of instances of
-  /// different models closer than half the smaller model's size, only the most confident.
+  /// different models closer than half the smaller model's size, only the most confident
+  /// (confidence plus half its colour agreement).
   std::vector<Detection> instances;
   std::vector<RecognitionResult> per_model;  // one per model; empty for a model not searched
   std::size_t scene_descriptions = 0;        // descriptions of the frame this search made
@@ -58,6 +60,10 @@ class Library {
   std::vector<const ModelDescription*> models_;
   std::vector<Group> groups_;
 };
+
+/// How instances of different models that claim one place rank: confidence plus half the
+/// colour agreement (none where colour was not measured). The higher stays.
+float ArbitrationScore(const Detection& d);
 
 /// Same place, different models: true when their centroids are closer than half the smaller of
 /// the two models' sizes.
