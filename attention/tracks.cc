@@ -468,7 +468,7 @@ class TrackSet::Matching {
     if (!MoveBetweenSightings(t, d)) return;
     const Eigen::Matrix4f tracked = t->pose;
     const TrackResult r = TakePose(t, d);
-    if (!r.tracking || AtImageEdge(*t, r, tracked)) {
+    if (!r.tracking || AtImageEdge(r, Score(*t, tracked))) {
       t->pose = tracked;
       return;
     }
@@ -485,24 +485,26 @@ class TrackSet::Matching {
     const VerificationModel& m = *models_[std::size_t(t->model)].points;
     const TrackResult r =
         TrackPose(m, *frame_.cloud, frame_.intrinsics, d.model_to_scene, options().refine);
-    if (!r.tracking || AtImageEdge(*t, r, t->pose) ||
-        r.inliers <=
-            ScorePose(m, *frame_.cloud, frame_.intrinsics, t->pose, options().refine).inliers)
-      return;
+    if (!r.tracking) return;
+    const TrackResult own = Score(*t, t->pose);
+    if (AtImageEdge(r, own) || r.inliers <= own.inliers) return;
     t->pose = r.model_to_camera;
     t->fitness = r.fitness;
     t->coverage = r.coverage;
   }
 
-  // Recognition's pose `r` (refined) against the track's own `pose`, where either puts too
-  // little of the object in the image for the tracker to turn it: there recognition's turn
-  // went unchecked, and a pose wins the comparison by turning more of the model into view. The
-  // track keeps its own.
-  bool AtImageEdge(const Track& t, const TrackResult& r, const Eigen::Matrix4f& pose) const {
-    const TrackOptions& o = options().refine;
-    return r.turn_held || ScorePose(*models_[std::size_t(t.model)].points, *frame_.cloud,
-                                    frame_.intrinsics, pose, o)
-                                  .in_image < o.min_in_image_to_turn;
+  // The track's model at `pose`, scored on this frame as it stands.
+  TrackResult Score(const Track& t, const Eigen::Matrix4f& pose) const {
+    return ScorePose(*models_[std::size_t(t.model)].points, *frame_.cloud, frame_.intrinsics, pose,
+                     options().refine);
+  }
+
+  // Recognition's pose `r` (refined) against the track's own (scored as `own`), where either
+  // puts too little of the object in the image for the tracker to turn it: there recognition's
+  // turn went unchecked, and a pose wins the comparison by turning more of the model into view.
+  // The track keeps its own.
+  bool AtImageEdge(const TrackResult& r, const TrackResult& own) const {
+    return r.turn_held || own.in_image < options().refine.min_in_image_to_turn;
   }
 
   TrackSet& set_;

@@ -47,12 +47,17 @@ struct Pair {
   Eigen::Vector3f p;  // the model point in the camera frame
   Seen seen;
 };
+// A model point at p with normal n (camera frame) the camera sees the front of.
+bool FacesCamera(const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
+  return p.z() > 0.05f && n.allFinite() && n.dot(p) < 0;
+}
+
 std::optional<Pair> PairOf(const VerificationModel& model, std::size_t i, const Cloud& frame,
                            const CameraIntrinsics& k, const Eigen::Isometry3f& X_CM,
                            int normal_step_px) {
   const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
   const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
-  if (!(p.z() > 0.05f) || !n.allFinite() || n.dot(p) >= 0) return std::nullopt;
+  if (!FacesCamera(p, n)) return std::nullopt;
   const Eigen::Vector2d uv = k.Project(p);
   const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
   const std::optional<Seen> seen = SeenAt(frame, u, v, normal_step_px);
@@ -68,7 +73,7 @@ float InImageShare(const VerificationModel& model, const CameraIntrinsics& k,
   for (std::size_t i = 0; i < model.points.size(); ++i) {
     const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
     const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
-    if (!(p.z() > 0.05f) || !n.allFinite() || n.dot(p) >= 0) continue;
+    if (!FacesCamera(p, n)) continue;
     ++facing;
     const Eigen::Vector2d uv = k.Project(p);
     inside += uv.x() > -0.5 && uv.y() > -0.5 && uv.x() < k.width - 0.5 && uv.y() < k.height - 0.5;
