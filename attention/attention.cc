@@ -81,7 +81,8 @@ Eigen::Vector3f LandGiven(const Fixation& f, const std::vector<Eigen::Vector3f>&
 std::vector<Eigen::Vector3f> Looks::Take(
     const Eigen::Vector3f& first_m, const std::vector<Eigen::Vector3f>& places,
     std::vector<Detection>* found,
-    const std::function<void(const Eigen::Vector3f&, std::vector<Detection>*)>& look) const {
+    const std::function<void(const Eigen::Vector3f&, std::vector<Detection>*)>& look,
+    const std::function<bool()>& may_look) const {
   std::vector<Eigen::Vector3f> looked, near = seen;
   near.push_back(first_m);
   const auto enough = [&](const Detection& d) {
@@ -90,7 +91,7 @@ std::vector<Eigen::Vector3f> Looks::Take(
   while (static_cast<int>(looked.size()) < left &&
          std::none_of(found->begin(), found->end(), enough)) {
     const auto pick = FirstFarFrom(places, near, radius_m);
-    if (pick == places.end()) break;
+    if (pick == places.end() || (may_look && !may_look())) break;
     looked.push_back(*pick);
     near.push_back(*pick);
     const std::size_t before = found->size();

@@ -130,11 +130,14 @@ struct Looks {
   /// sightings are in `found`: while none of them is enough_confidence (or unverified) and
   /// looks are left, at the best of `places` not seen yet. `look(place, &found)` recognizes
   /// there and appends its sightings; one of a model within radius_m of a more confident one
-  /// of that model is the same object, kept once. Returns the places looked at, in order.
+  /// of that model is the same object, kept once. `may_look`, when given, is asked before
+  /// each further look: false ends the frame's looks there (its time is spent). Returns the
+  /// places looked at, in order.
   std::vector<Eigen::Vector3f> Take(
       const Eigen::Vector3f& first_m, const std::vector<Eigen::Vector3f>& places,
       std::vector<Detection>* found,
-      const std::function<void(const Eigen::Vector3f&, std::vector<Detection>*)>& look) const;
+      const std::function<void(const Eigen::Vector3f&, std::vector<Detection>*)>& look,
+      const std::function<bool()>& may_look = {}) const;
 };
 
 /// True when attention follows the best instance of a search from nothing, one that started

@@ -43,6 +43,11 @@ struct PipelineOptions {
   /// throughput.
   int frames_in_flight = 1;
   int threads = 0;  // worker threads; 0: one per core
+  /// A live source's search frame takes its further looks (attention.looks_per_frame) only
+  /// while they end before the next frame arrives (LooksUntilNs): the looks left are the next
+  /// frame's, and no frame waits or is dropped for them. false: every look, whatever it costs.
+  /// A source read on demand (rate 0) waits for the pipeline and takes every look either way.
+  bool looks_keep_pace = true;
 
   bool IsValid(std::string* error) const;
   bool operator==(const PipelineOptions& o) const { return SameFields(*this, o); }
@@ -51,6 +56,7 @@ struct PipelineOptions {
   void Serialize(Archive* a) {
     a->Visit("frames_in_flight", &frames_in_flight);
     a->Visit("threads", &threads);
+    a->Visit("looks_keep_pace", &looks_keep_pace);
   }
 };
 

@@ -209,8 +209,10 @@ void RecognizeStage::Process(Job* job) {
   // The mask is of the models the job was planned with: a reload since then runs them all.
   const bool masked = job->models.size() == c.models.size();
   std::string error;
+  const std::int64_t first_look_ns = SteadyNowNs();
   LibraryResult r = RecognizeLibrary(*c.library, *frame.cloud, q, options,
                                      masked ? job->models : std::vector<bool>{}, parallel, &error);
+  const std::int64_t first_look_took_ns = SteadyNowNs() - first_look_ns;
   if (!error.empty()) Log(LogLevel::kDebug, "frame " + std::to_string(out.seq) + ": " + error);
   out.instances = std::move(r.instances);
   // Only a search looks elsewhere: at every model's candidates, best first, or at the salient
@@ -222,22 +224,31 @@ void RecognizeStage::Process(Job* job) {
       job->salient = SalientRegions(*frame.cloud, c.saliency);
   }
   // A search may look at its next candidates in this frame too, until one holds an instance
-  // confident enough to start a track (attention.looks_per_frame, Attention::PlanLooks).
+  // confident enough to start a track (attention.looks_per_frame, Attention::PlanLooks), and
+  // on a live source while a look as long as the longest yet would end in time.
   if (job->plan.left > 0 && c.search_candidates && q.foveated && job->sweep_phase < 0 &&
       !job->recheck_at) {
     Looks plan = job->plan;
     if (c.tracking.enabled) plan.enough_confidence = c.tracking.min_track_confidence;
     error.clear();
-    job->looks = plan.Take(q.fovea_m, job->salient, &out.instances,
-                           [&](const Eigen::Vector3f& place, std::vector<Detection>* found) {
-                             SceneQuery look = q;
-                             look.fovea_m = place;
-                             look.search_phase = 0;  // the window nearest the candidate
-                             LibraryResult seen = RecognizeLibrary(
-                                 *c.library, *frame.cloud, look, options,
-                                 masked ? job->models : std::vector<bool>{}, parallel, &error);
-                             for (Detection& d : seen.instances) found->push_back(std::move(d));
-                           });
+    std::int64_t longest_look_ns = first_look_took_ns;
+    const auto in_time = [&] {
+      return job->looks_until_ns == 0 || SteadyNowNs() + longest_look_ns <= job->looks_until_ns;
+    };
+    job->looks = plan.Take(
+        q.fovea_m, job->salient, &out.instances,
+        [&](const Eigen::Vector3f& place, std::vector<Detection>* found) {
+          const std::int64_t started_ns = SteadyNowNs();
+          SceneQuery look = q;
+          look.fovea_m = place;
+          look.search_phase = 0;  // the window nearest the candidate
+          LibraryResult seen =
+              RecognizeLibrary(*c.library, *frame.cloud, look, options,
+                               masked ? job->models : std::vector<bool>{}, parallel, &error);
+          for (Detection& d : seen.instances) found->push_back(std::move(d));
+          longest_look_ns = std::max(longest_look_ns, SteadyNowNs() - started_ns);
+        },
+        in_time);
     if (!job->looks.empty() && plan.moves_fovea) out.fovea_m = job->looks.back();
     if (!error.empty()) Log(LogLevel::kDebug, "frame " + std::to_string(out.seq) + ": " + error);
   }
@@ -516,6 +527,26 @@ std::string PublishStage::RunLine(double seconds, const SourceStats& source) con
   if (unsent_ > 0)
     run += "; LCM did not send " + std::to_string(unsent_) + " of the frames processed";
   return run;
+}
+
+void ArrivalPeriod::Add(std::int64_t arrival_ns) {
+  if (last_ns_ > 0 && arrival_ns > last_ns_) {
+    if (intervals_.size() == kIntervals) intervals_.erase(intervals_.begin());
+    intervals_.push_back(arrival_ns - last_ns_);
+  }
+  last_ns_ = arrival_ns;
+}
+
+std::int64_t ArrivalPeriod::ns() const {
+  if (intervals_.empty()) return 0;
+  std::vector<std::int64_t> sorted = intervals_;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  return sorted[sorted.size() / 2];
+}
+
+std::int64_t LooksUntilNs(std::int64_t arrival_ns, std::int64_t period_ns, int frames_in_flight) {
+  if (period_ns <= 0) return 0;
+  return arrival_ns + frames_in_flight * period_ns - period_ns / 4;
 }
 
 }  // namespace saccade

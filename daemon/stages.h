@@ -80,10 +80,35 @@ struct Job {
   /// Where recognition looked after its first look (Looks::Take): attention counts each as a
   /// candidate visit (Attention::Looked).
   std::vector<Eigen::Vector3f> looks;
+  /// A live frame's further looks must end by then (steady clock, ns) for the pipeline to keep
+  /// pace with the source (pipeline.looks_keep_pace, LooksUntilNs). 0: no limit.
+  std::int64_t looks_until_ns = 0;
   double track_ms = 0, attention_ms = 0;
   std::string track_events;  // what changed in the tracks, for the fixation's reason
   Fixation next;             // attention's fixation after this frame
 };
+
+/// How often a live source's frames arrive: the median of the last intervals between the
+/// frames the pipeline took (one dropped between two doubles an interval; the median passes
+/// over it).
+class ArrivalPeriod {
+ public:
+  void Add(std::int64_t arrival_ns);
+  /// 0 until two frames have arrived.
+  std::int64_t ns() const;
+
+ private:
+  static constexpr std::size_t kIntervals = 15;
+  std::int64_t last_ns_ = 0;
+  std::vector<std::int64_t> intervals_;  // the last kIntervals, oldest first
+};
+
+/// When a live frame that arrived at `arrival_ns` must end its further looks to keep pace
+/// with the source: before the frame `frames_in_flight` after it arrives (the pipeline then
+/// has room for it: no frame waits, none is overwritten), less a quarter period for tracking
+/// and publishing. 0 (no limit) while the period is not known. A frame that waited (its
+/// predecessor ran late) has less time; a late frame takes no further look.
+std::int64_t LooksUntilNs(std::int64_t arrival_ns, std::int64_t period_ns, int frames_in_flight);
 
 /// Loads and describes each model spec (a PCD file, or synthetic:target); several are put on
 /// the library's radius grid (RecognitionOptions::library_radius_ratio). nullopt with one line

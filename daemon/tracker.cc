@@ -83,6 +83,7 @@ struct Tracker::Impl {
   const Heartbeat heartbeat;
   const std::int64_t started_ns = SteadyNowNs();
   std::int64_t datagrams_dropped = 0;  // by the kernel, as of the last status (its thread's)
+  ArrivalPeriod arrivals;              // a live source's frames (the pipeline's first stage's)
 
   RecognizeStage recognize;
   TrackStage track;
@@ -251,6 +252,12 @@ std::shared_ptr<Job> Tracker::Impl::NextJob(std::string* source_error) {
     return nullptr;
   }
   if (job->frame.arrival_steady_ns == 0) job->frame.arrival_steady_ns = SteadyNowNs();
+  if (source->Live()) {
+    arrivals.Add(job->frame.arrival_steady_ns);
+    if (settings.pipeline.looks_keep_pace)
+      job->looks_until_ns = LooksUntilNs(job->frame.arrival_steady_ns, arrivals.ns(),
+                                         settings.pipeline.frames_in_flight);
+  }
   attend.Plan(job.get());
   track.PlanRecognition(job.get());
   return job;

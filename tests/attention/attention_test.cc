@@ -318,6 +318,30 @@ TEST(Attention, ASearchFrameLooksAtItsNextCandidatesUntilOneHoldsTheObject) {
   EXPECT_GT(f.growth_m, 0.0f);
 }
 
+// A frame whose time is spent (may_look false) takes no further look: the place it did not
+// look at is not counted as looked at, and the next frame's looks start there.
+TEST(Attention, AFrameWhoseTimeIsSpentStopsLooking) {
+  const std::vector<Eigen::Vector3f> places = {
+      Eigen::Vector3f(0.4f, 0, 1), Eigen::Vector3f(-0.4f, 0, 1), Eigen::Vector3f(0.8f, 0, 1)};
+  Looks plan;
+  plan.left = 2;
+  std::vector<Detection> none;
+  std::vector<Eigen::Vector3f> asked;
+  const auto look = [&](const Eigen::Vector3f& place, std::vector<Detection>*) {
+    asked.push_back(place);
+  };
+  int allowed = 1;
+  const std::vector<Eigen::Vector3f> looks =
+      plan.Take(places[0], places, &none, look, [&] { return allowed-- > 0; });
+  ASSERT_EQ(looks.size(), 1u);
+  EXPECT_EQ(asked, looks);
+  EXPECT_TRUE(looks[0].isApprox(places[1]));
+  asked.clear();
+  EXPECT_TRUE(plan.Take(places[0], places, &none, look, [] { return false; }).empty());
+  EXPECT_TRUE(asked.empty());
+  EXPECT_EQ(plan.Take(places[0], places, &none, look).size(), 2u);  // no limit given
+}
+
 TEST(Attention, ALostTargetsSearchLooksAtCandidatesBesideWhereItWasLost) {
   AttentionOptions o;  // three looks a frame, eight candidate visits
   const std::vector<Eigen::Vector3f> places = {

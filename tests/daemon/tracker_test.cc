@@ -3,6 +3,9 @@
 // its control thread. saccaded_test.cc runs the same tracker as a process over real LCM.
 #include "daemon/tracker.h"
 
+#include "daemon/stages.h"
+#include "io/base/clock.h"
+
 #include "io/lcm/memory_bus.h"
 
 #include <gtest/gtest.h>
@@ -119,6 +122,57 @@ TEST(Tracker, AColdStartLooksAtTheBestCandidateFirstAndItsFirstTrackIsTheTarget)
     EXPECT_EQ(first_held, looks == 1 ? 2 : 0) << looks << " looks a frame";
     EXPECT_EQ(published.back().fixation.mode, AttentionMode::kTracking);
   }
+}
+
+// pipeline.looks_keep_pace: a live search frame takes a further look only while it would end
+// before the next frame arrives. The cold start above, through the stages
+// saccaded runs, with the frame's time limit given: unlimited (a source read on demand) and an
+// hour away, its first frame looks at the target, the third candidate; spent long ago (a frame
+// that waited), it looks only at the first and finds nothing.
+TEST(Tracker, ALiveSearchFramePastItsTimeLeavesItsFurtherLooksToTheNextFrame) {
+  DaemonSettings s = DemoSettings();
+  s.source.spec = "synthetic:static?frames=1&seed=3&rate=0";
+  s.initial_fovea_m = Eigen::Vector3f(0.8f, -0.4f, 2.5f);
+  std::string error;
+  std::unique_ptr<FrameSource> frames = OpenSource(s.source.spec, &error);
+  ASSERT_TRUE(frames) << error;
+  Frame frame;
+  ASSERT_EQ(frames->Next(&frame, &error), FrameSource::Status::kFrame) << error;
+  std::optional<Models> models = DescribeModels(s.models, s.recognition, &error);
+  ASSERT_TRUE(models) << error;
+  RecognizeStage recognize(RecognizeStage::MakeConfig(s, std::move(*models)));
+  const std::int64_t now = SteadyNowNs(), hour = 3600 * std::int64_t{1000000000};
+  for (const std::int64_t until : {std::int64_t{0}, now + hour, now - hour}) {
+    AttendStage attend(s.attention, s.initial_fovea_m);
+    TrackStage track(s.tracking);
+    Job job;
+    job.frame = frame;
+    job.frame.arrival_steady_ns = now;
+    job.looks_until_ns = until;
+    attend.Plan(&job);
+    track.PlanRecognition(&job);
+    ASSERT_EQ(job.plan.left, 2);
+    recognize.Process(&job);
+    const bool in_time = until != now - hour;
+    EXPECT_EQ(job.looks.size(), in_time ? 2u : 0u) << "until " << until;
+    EXPECT_EQ(job.detections.instances.empty(), !in_time) << "until " << until;
+  }
+}
+
+// Where the limit falls: a frame keeps pace when it leaves the pipeline before the frame
+// frames_in_flight after it arrives; a quarter period is left for tracking and publishing.
+TEST(Tracker, LooksEndBeforeTheFrameAfterArrives) {
+  const std::int64_t ms = 1000000;
+  EXPECT_EQ(LooksUntilNs(100 * ms, 0, 1), 0);  // the period not known yet: no limit
+  EXPECT_EQ(LooksUntilNs(100 * ms, 40 * ms, 1), 130 * ms);
+  EXPECT_EQ(LooksUntilNs(100 * ms, 40 * ms, 2), 170 * ms);
+  ArrivalPeriod period;
+  EXPECT_EQ(period.ns(), 0);
+  period.Add(1000 * ms);
+  EXPECT_EQ(period.ns(), 0);
+  // 33 ms apart, with one frame dropped (66 ms) and one late (40 ms): the median holds 33.
+  for (const std::int64_t at : {1033, 1066, 1132, 1165, 1205, 1238}) period.Add(at * ms);
+  EXPECT_EQ(period.ns(), 33 * ms);
 }
 
 // The preview (on in the demo's config) is made from the frame it describes, at most rate_hz
