@@ -22,6 +22,10 @@ constexpr float kMaxSpeedMps = 2.0f;
 // from a still start (1.5 cm a frame is 0.45 m/s at 30 Hz).
 constexpr float kMinSightedMoveM = 0.015f;
 
+// A lost track is re-acquired at its last pose only where this share of its model (of the
+// points facing the camera) falls inside the image: a sliver at the edge fits anything.
+constexpr float kMinInImageToWatch = 0.3f;
+
 Eigen::Vector3f CentroidOf(const Eigen::Matrix4f& X_CM, const Eigen::Vector3f& model_centroid) {
   return Eigen::Affine3f(X_CM) * model_centroid;
 }
@@ -37,6 +41,12 @@ std::string Figures(const char* what, int id, float fitness, float coverage) {
   std::snprintf(s, sizeof s, "track %d %s (fitness %.2f coverage %.2f)", id, what, fitness,
                 coverage);
   return s;
+}
+
+// A track's score on the frame: the share of its points the frame does not contradict,
+// discounted while less than half of what faces the camera is found.
+float TrackScore(float fitness, float coverage) {
+  return fitness * std::min(1.0f, coverage / 0.5f);
 }
 
 bool FrameUsable(const TrackFrame& f) {
@@ -60,6 +70,7 @@ bool TrackingOptions::IsValid(std::string* error) const {
     return Fail(error, "reacquire_radius_m must be >= same_track_m");
   if (recheck_max_keypoints < 0) return Fail(error, "recheck_max_keypoints must be >= 0");
   if (max_tracks < 1) return Fail(error, "max_tracks must be >= 1");
+  if (watch_lost_frames < 0) return Fail(error, "watch_lost_frames must be >= 0");
   if (forget_after_frames < 1) return Fail(error, "forget_after_frames must be >= 1");
   return refine.IsValid(error);
 }
@@ -144,14 +155,18 @@ void TrackSet::Refine(const TrackFrame& frame, const std::vector<TrackModel>& mo
                       std::string* events) {
   TrackResult r;
   const bool usable = FrameUsable(frame);
-  if (usable)
+  if (usable) {
+    TrackOptions o = options_.refine;
+    if (t->rewatched) o.min_in_image_to_turn = 1;  // as Watch found it
     r = TrackPose(*models[std::size_t(t->model)].points, *frame.cloud, frame.intrinsics,
-                  t->PredictedAt(frame.time_s), options_.refine);
+                  t->PredictedAt(frame.time_s), o);
+  }
   t->fitness = r.fitness;
   t->coverage = r.coverage;
   if (!r.tracking) {
     t->state = TrackState::kLost;
     t->lost_seq = frame.seq;
+    t->watched = usable;
     Say(events, usable ? Figures("lost", t->id, r.fitness, r.coverage)
                        : "track " + std::to_string(t->id) + " lost (the frame is not organized)");
     return;
@@ -166,9 +181,54 @@ void TrackSet::Refine(const TrackFrame& frame, const std::vector<TrackModel>& mo
   }
   t->motion_dt_s = frame.time_s - t->time_s;
   t->pose = r.model_to_camera;
+  if (r.in_image >= options_.refine.min_in_image_to_turn) t->inward_pose = t->pose;
   t->time_s = frame.time_s;
   t->state = TrackState::kTracking;
   ++t->frames_since_check;
+}
+
+void TrackSet::Watch(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
+                     std::string* events) {
+  // From where it was lost, and from where it was last well inside the image (an object
+  // coming back the way it left is seen there first).
+  const VerificationModel& model = *models[std::size_t(t->model)].points;
+  const auto holds = [](const TrackResult& r) {
+    return r.tracking && r.in_image >= kMinInImageToWatch;
+  };
+  TrackOptions o = options_.refine;
+  o.min_in_image_to_turn = 1;  // part of it in view: its turn is the one it was lost with
+  TrackResult r = TrackPose(model, *frame.cloud, frame.intrinsics, t->pose, o);
+  if (!holds(r) && !t->inward_pose.isApprox(t->pose))
+    r = TrackPose(model, *frame.cloud, frame.intrinsics, t->inward_pose, o);
+  if (!holds(r)) return;
+  const int lost_for = static_cast<int>(frame.seq - t->lost_seq);
+  t->state = TrackState::kReacquired;
+  t->pose = r.model_to_camera;
+  t->time_s = frame.time_s;
+  t->motion = Eigen::Matrix4f::Identity();
+  t->motion_dt_s = 0;
+  t->fitness = r.fitness;
+  t->coverage = r.coverage;
+  t->lost_seq = -1;
+  t->watched = false;
+  t->rewatched = true;
+  // Tentative, as any re-acquisition: re-checked on the next frame, where one miss loses it.
+  t->frames_since_check = options_.recheck_every;
+  t->unconfirmed = options_.unconfirmed_rechecks - 1;
+  t->first_check = false;
+  // What it is published with: the frame's support, not a recognition's.
+  Detection& found = t->found;
+  found = Detection{};
+  found.model = t->model;
+  found.model_to_scene = t->pose;
+  found.centroid_m = CentroidOf(t->pose, models[std::size_t(t->model)].centroid);
+  found.fitness = r.fitness;
+  found.coverage = r.coverage;
+  found.confidence = TrackScore(r.fitness, r.coverage);
+  Say(events,
+      Figures(
+          ("re-acquired where it was lost after " + std::to_string(lost_for) + " frames").c_str(),
+          t->id, r.fitness, r.coverage));
 }
 
 Detection TrackSet::Publish(const Track& t, const std::vector<TrackModel>& models) const {
@@ -188,9 +248,7 @@ Detection TrackSet::Publish(const Track& t, const std::vector<TrackModel>& model
   } else if (t.state == TrackState::kTracking) {
     d.fitness = t.fitness;
     d.coverage = t.coverage;
-    // The track score: the share of its points the frame does not contradict, discounted
-    // while less than half of what faces the camera is found.
-    d.confidence = t.fitness * std::min(1.0f, t.coverage / 0.5f);
+    d.confidence = TrackScore(t.fitness, t.coverage);
   } else {
     d.confidence = 0;
   }
@@ -229,6 +287,7 @@ class TrackSet::Matching {
           taken_[i] = used_[k] = true;
           t.frames_since_check = 0;
           t.unconfirmed = 0;
+          t.rewatched = false;
           if (t.first_check)
             Retake(&t, d);
           else
@@ -273,6 +332,7 @@ class TrackSet::Matching {
       if (++t.unconfirmed >= options().unconfirmed_rechecks) {
         t.state = TrackState::kLost;
         t.lost_seq = frame_.seq;
+        t.watched = false;  // recognition says it is not there: not to be taken back unchecked
         Say(events_, "track " + std::to_string(t.id) + " lost (not confirmed by " +
                          std::to_string(t.unconfirmed) + " re-checks)");
       }
@@ -404,6 +464,7 @@ class TrackSet::Matching {
     t.frames_since_check = options().recheck_every;
     t.unconfirmed = options().unconfirmed_rechecks - 1;
     t.lost_seq = -1;
+    t.rewatched = false;
     const TrackModel& model = models_[std::size_t(t.model)];
     t.motion = Eigen::Matrix4f::Identity();
     t.motion_dt_s = 0;
@@ -437,6 +498,7 @@ class TrackSet::Matching {
                     t->pose, options().refine);
       if (r.tracking) t->pose = r.model_to_camera;
     }
+    t->inward_pose = t->pose;
     t->time_s = frame_.time_s;
     return r;
   }
@@ -550,6 +612,10 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
   ForgetLongSearches(frame.seq, events);
   for (Track& t : tracks_)
     if (Held(t)) Refine(frame, models, &t, events);
+  for (Track& t : tracks_)
+    if (t.state == TrackState::kSearching && t.watched && FrameUsable(frame) &&
+        frame.seq - t.lost_seq <= options_.watch_lost_frames)
+      Watch(frame, models, &t, events);
   if (frame.sweep) ++sweeps_;
   std::vector<Detection> untracked;
   if (frame.recognized) {

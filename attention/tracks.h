@@ -2,7 +2,8 @@
 // pose (seeded by the constant-velocity prediction) with core/tracking.h's TrackPose instead of
 // recognizing it again. A track is TRACKING while the frame supports it, LOST on the first
 // frame that does not, SEARCHING after that (attention grows the fovea, recognition runs), and
-// RE-ACQUIRED on the frame recognition finds it again. Recognition also re-checks every track
+// RE-ACQUIRED on the frame recognition finds it again (or, soon after it was lost, the frame
+// supports it again at its last pose). Recognition also re-checks every track
 // every few frames and whenever its score drops, so a track that slid onto a neighbour is put
 // back. Several objects at once, each with a stable id. Pure: frames and recognition's
 // instances in, the frame's instances with their track ids and states out. Not thread-safe.
@@ -62,6 +63,12 @@ struct TrackingOptions {
   /// frames on make bench-track's 15 sequences; 300 cut a re-check from ~10 to ~7.5 ms (p50).
   int recheck_max_keypoints = 300;
   int max_tracks = 4;  // tracks kept at once; a new object past this is not tracked
+  /// A track the frame stopped supporting (not one recognition stopped confirming) is tried
+  /// again at its last held pose on each of this many frames after: where the frame supports
+  /// it there again (TrackPose from that pose holds), it is RE-ACQUIRED without waiting for
+  /// recognition, which cannot find an object that comes back a fifth in view at the image's
+  /// edge or from behind an occluder. 0: only recognition re-acquires.
+  int watch_lost_frames = 300;
   /// A track searched for this many frames is forgotten (its id is not reused).
   int forget_after_frames = 300;
   TrackOptions refine;  // TrackPose's options: the section's other keys
@@ -82,6 +89,7 @@ struct TrackingOptions {
     a->Visit("reacquire_radius_m", &reacquire_radius_m);
     a->Visit("recheck_max_keypoints", &recheck_max_keypoints);
     a->Visit("max_tracks", &max_tracks);
+    a->Visit("watch_lost_frames", &watch_lost_frames);
     a->Visit("forget_after_frames", &forget_after_frames);
     refine.Serialize(a);
   }
@@ -173,7 +181,14 @@ class TrackSet {
     int frames_since_check = 0;  // frames since recognition last looked at it
     int unconfirmed = 0;         // re-checks in a row that did not find it
     std::int64_t lost_seq = -1;  // the frame it was lost on, -1 while held
-    Detection found;             // recognition's instance when it was last (re-)acquired or retaken
+    bool watched = false;        // lost by the frame, not by re-checks: tried at its last pose
+    /// The last held pose with at least min_in_image_to_turn of it in the image: where an
+    /// object that left at the edge is seen again when it comes back the way it went.
+    Eigen::Matrix4f inward_pose = Eigen::Matrix4f::Identity();
+    /// Re-acquired where it was lost and not confirmed by recognition since: its turn is held
+    /// until it is wholly in the image (its motion is not known yet: a turn would absorb it).
+    bool rewatched = false;
+    Detection found;  // recognition's instance when it was last (re-)acquired or retaken
     double found_s = std::numeric_limits<double>::quiet_NaN();  // ...and when (NaN: never)
     /// Found on the last recognized frame: this frame's sighting that confirms it gives the
     /// track its motion (Matching::Retake); cleared after any other recognized frame.
@@ -186,6 +201,10 @@ class TrackSet {
   }
   void Refine(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
               std::string* events);
+  /// A lost track within watch_lost_frames, refined from its last held pose: RE-ACQUIRED
+  /// where that holds.
+  void Watch(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
+             std::string* events);
   Detection Publish(const Track& t, const std::vector<TrackModel>& models) const;
   /// Lost last frame: searching now; searched for forget_after_frames: forgotten.
   void ForgetLongSearches(std::int64_t seq, std::string* events);

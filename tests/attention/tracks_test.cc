@@ -161,9 +161,15 @@ TEST(TrackSet, TimestampsThatJumpBackForwardOrStandStillKeepTheTrackWhereTheObje
   }
 }
 
+TrackingOptions RecognitionAloneReacquires() {
+  TrackingOptions o;
+  o.watch_lost_frames = 0;  // the frame's own support re-acquires too: below
+  return o;
+}
+
 TEST(TrackSet, ATrackThatLosesItsObjectIsLostOnThatFrameThenSearchingAndKeepsItsId) {
   const Demo& d = TheDemo();
-  TrackSet tracks(TrackingOptions{});
+  TrackSet tracks(RecognitionAloneReacquires());
   tracks.Update(d.Frame(0, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
   tracks.Update(d.Frame(1, d.demo.scene.cloud, true), d.Models(), {d.Found()}, nullptr);
   std::string events;
@@ -193,7 +199,7 @@ TEST(TrackSet, ATrackThatLosesItsObjectIsLostOnThatFrameThenSearchingAndKeepsIts
 
 TEST(TrackSet, ALostTrackIsNotReacquiredByALookAlikeFarFromWhereItWasLost) {
   const Demo& d = TheDemo();
-  TrackSet tracks(TrackingOptions{});
+  TrackSet tracks(RecognitionAloneReacquires());
   d.FindThenLose(&tracks);
   // While it hides, recognition finds a look-alike 30 cm away, as confident as a true instance
   // usually is but below min_extra_track_confidence: published untracked, the track searches on.
@@ -220,11 +226,56 @@ TEST(TrackSet, ALostTrackIsNotReacquiredByALookAlikeFarFromWhereItWasLost) {
   EXPECT_TRUE(out[0].centroid_m.isApprox(back.centroid_m, 1e-3f));
   EXPECT_EQ(out[1].track_state, TrackState::kNone);
   // Far away but as confident as a second track must be: that moves it.
-  TrackSet other(TrackingOptions{});
+  TrackSet other(RecognitionAloneReacquires());
   d.FindThenLose(&other);
   out = other.Update(d.Frame(3, d.empty, true), d.Models(), {d.Found(there)}, nullptr);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
+}
+
+// tracking.watch_lost_frames: a track the frame stopped supporting is tried at its last pose
+// on the frames after; where the object is back there, it is re-acquired without recognition,
+// tentative as any re-acquisition (the next frame re-checks it, and one miss loses it, for
+// good: a track recognition did not confirm is not watched). Past the watch, only
+// recognition re-acquires.
+TEST(TrackSet, ALostTrackIsReacquiredWhereItWasLostWhenTheFrameShowsItThereAgain) {
+  const Demo& d = TheDemo();
+  TrackingOptions o;
+  o.watch_lost_frames = 2;
+  TrackSet tracks(o);
+  d.FindThenLose(&tracks);
+  std::string events;
+  std::vector<Detection> out = tracks.Update(d.Frame(3, d.empty, false), d.Models(), {}, &events);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kSearching);
+  EXPECT_TRUE(events.empty()) << events;
+  out = tracks.Update(d.Frame(4, d.demo.scene.cloud, false), d.Models(), {}, &events);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
+  EXPECT_EQ(out[0].track_id, 0);
+  EXPECT_EQ(events.rfind("track 0 re-acquired where it was lost after 2 frames (fitness", 0), 0u)
+      << events;
+  EXPECT_GT(out[0].confidence, 0.5f);
+  EXPECT_LT(
+      ComparePoses(out[0].model_to_scene, d.demo.truth.matrix(), d.model->centroid()).translation_m,
+      0.003);
+  // Re-checked on the next frame: recognition does not find it there, and it is lost again,
+  // not to be watched for (the object is back, but the track is not taken back).
+  EXPECT_TRUE(tracks.NeedsRecognition());
+  ASSERT_TRUE(tracks.RecheckAt());
+  out = tracks.Update(d.Frame(5, d.demo.scene.cloud, true), d.Models(), {}, nullptr);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kLost);
+  out = tracks.Update(d.Frame(6, d.demo.scene.cloud, false), d.Models(), {}, nullptr);
+  EXPECT_EQ(out[0].track_state, TrackState::kSearching);
+  // Past the watch (lost on frame 2, back on frame 5, 3 frames on): recognition's alone.
+  TrackSet late(o);
+  d.FindThenLose(&late);
+  late.Update(d.Frame(3, d.empty, false), d.Models(), {}, nullptr);
+  late.Update(d.Frame(4, d.empty, false), d.Models(), {}, nullptr);
+  out = late.Update(d.Frame(5, d.demo.scene.cloud, false), d.Models(), {}, nullptr);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kSearching);
 }
 
 TEST(TrackSet, ARecheckThatFindsTheObjectElsewherePutsTheTrackBack) {

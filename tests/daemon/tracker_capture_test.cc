@@ -183,8 +183,11 @@ TEST(CaptureTracking, AnObjectLeavingAtTheImagesEdgeIsHeldWithoutTurning) {
 // and comes back. Found standing still as far as tracking knows, the can is outrun: tracking from
 // its found pose lags it by 2-4 cm and turns it 30-65 degrees about its axis, and the re-check on
 // the next frame confirmed that lagging pose. The first two sightings by recognition now give the
-// track its motion: of the 19 frames it is in view, the tracker holds it within 2 cm and 5
-// degrees on 16 (5 before), and never 5 cm off.
+// track its motion: of the 19 frames it is in view, the tracker held it within 2 cm and 5
+// degrees on 16 (5 before), and never 5 cm off. The three it missed were its return at the
+// image's edge, 71 frames after it left, where recognition does not find it yet: its track is
+// now re-acquired where it was lost, its turn held (tracking.watch_lost_frames), and every
+// frame it is in view is held.
 TEST(CaptureTracking, AFastObjectIsHeldFromItsFirstTwoSightings) {
   SACCADE_REQUIRE_DATA("mosd_xcap/test/test31.pcd");
   const SequenceRun run = TrackSequence("object-leave-return", {});
@@ -192,9 +195,8 @@ TEST(CaptureTracking, AFastObjectIsHeldFromItsFirstTwoSightings) {
   const InView seen = CountInView(run, [](std::size_t i, bool, const PoseError& e) {
     EXPECT_LT(e.translation_m, 0.05) << "frame " << i;
   });
-  EXPECT_GE(seen.visible, 17);
-  EXPECT_LE(seen.visible, 21);
-  EXPECT_GE(seen.within, 13);
+  EXPECT_EQ(seen.visible, 19);
+  EXPECT_EQ(seen.within, seen.visible);
 }
 
 }  // namespace
