@@ -2,8 +2,8 @@
 // pose (seeded by the constant-velocity prediction) with core/tracking.h's TrackPose instead of
 // recognizing it again. A track is TRACKING while the frame supports it, LOST on the first
 // frame that does not, SEARCHING after that (attention grows the fovea, recognition runs), and
-// RE-ACQUIRED on the frame recognition finds it again (or, soon after it was lost, the frame
-// supports it again at its last pose). Recognition also re-checks every track
+// RE-ACQUIRED on the frame recognition finds it again (or, while it is searched for, the frame
+// supports it again where it was lost). Recognition also re-checks every track
 // every few frames and whenever its score drops, so a track that slid onto a neighbour is put
 // back. Several objects at once, each with a stable id. Pure: frames and recognition's
 // instances in, the frame's instances with their track ids and states out. Not thread-safe.
@@ -64,10 +64,11 @@ struct TrackingOptions {
   int recheck_max_keypoints = 300;
   int max_tracks = 4;  // tracks kept at once; a new object past this is not tracked
   /// A track the frame stopped supporting (not one recognition stopped confirming) is tried
-  /// again at its last held pose on each of this many frames after: where the frame supports
-  /// it there again (TrackPose from that pose holds), it is RE-ACQUIRED without waiting for
-  /// recognition, which cannot find an object that comes back a fifth in view at the image's
-  /// edge or from behind an occluder. 0: only recognition re-acquires.
+  /// again where it was lost on each of this many frames after (TrackSet::Watch): where the
+  /// frame supports it there again, with at least 30% of it in the image, it is RE-ACQUIRED
+  /// without waiting for recognition, which does not find an object that comes back a fifth
+  /// in view at the image's edge. 0: only recognition re-acquires; 300 (forget_after_frames):
+  /// as long as it is searched for.
   int watch_lost_frames = 300;
   /// A track searched for this many frames is forgotten (its id is not reused).
   int forget_after_frames = 300;
@@ -201,8 +202,9 @@ class TrackSet {
   }
   void Refine(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
               std::string* events);
-  /// A lost track within watch_lost_frames, refined from its last held pose: RE-ACQUIRED
-  /// where that holds.
+  /// A lost track within watch_lost_frames, refined (its turn held) from its last held pose,
+  /// else from its inward_pose: RE-ACQUIRED where that holds with kMinInImageToWatch of it in
+  /// the image.
   void Watch(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
              std::string* events);
   Detection Publish(const Track& t, const std::vector<TrackModel>& models) const;
