@@ -165,18 +165,23 @@ TEST(CaptureTracking, TwoObjectsAreTrackedAtOnceEachWithItsOwnId) {
 // edge while the camera drifts (its centre leaves the image at frame 74). While less than half
 // of it is in the image the tracker holds its turn (tracking.min_in_image_to_turn; at 0 the
 // turn drifts 6.6 degrees by frame 79). Every frame it is in view is held within 2 cm and 5
-// degrees.
+// degrees. Once less than 15% of it is in the image the track is LOST (it was held on the
+// sliver for 5 frames after the truth said the can was gone): within 2 frames of that.
 TEST(CaptureTracking, AnObjectLeavingAtTheImagesEdgeIsHeldWithoutTurning) {
   SACCADE_REQUIRE_DATA("mosd_xcap/test/test31.pcd");
   const SequenceRun run = TrackSequence("two-objects", {});
   ASSERT_EQ(run.frames.size(), 90u);
-  const InView seen = CountInView(run, [](std::size_t i, bool visible, const PoseError& e) {
+  int held_while_gone = 0;
+  const InView seen = CountInView(run, [&](std::size_t i, bool visible, const PoseError& e) {
     if (visible) {
       EXPECT_LT(e.rotation_deg, 5) << "frame " << i;
+    } else {
+      ++held_while_gone;
     }
   });
   EXPECT_EQ(seen.visible, 80);
   EXPECT_EQ(seen.within, seen.visible);
+  EXPECT_LE(held_while_gone, 2);
 }
 
 // The object-leave-return sequence: the coffee can leaves the view at 1 m/s (3.3 cm a frame)
