@@ -174,7 +174,9 @@ void TrackSet::Refine(const TrackFrame& frame, const std::vector<TrackModel>& mo
   if (!r.tracking || left_view) {
     t->state = TrackState::kLost;
     t->lost_seq = frame.seq;
-    t->watched = usable;
+    // A track the watch took back and recognition never confirmed is not watched again: at the
+    // image's edge (where re-checks are excused) it would come and go without end.
+    t->watched = usable && !t->rewatched;
     char share[80];
     std::snprintf(share, sizeof share, "track %d lost (out of the image: %.0f%% in view)", t->id,
                   100 * r.in_image);
@@ -210,7 +212,7 @@ void TrackSet::Watch(const TrackFrame& frame, const std::vector<TrackModel>& mod
   TrackOptions o = options_.refine;
   o.min_in_image_to_turn = 1;  // part of it in view: its turn is the one it was lost with
   TrackResult r = TrackPose(model, *frame.cloud, frame.intrinsics, t->pose, o);
-  if (!holds(r) && !t->inward_pose.isApprox(t->pose))
+  if (!holds(r) && !t->inward_pose.isIdentity() && !t->inward_pose.isApprox(t->pose))
     r = TrackPose(model, *frame.cloud, frame.intrinsics, t->inward_pose, o);
   if (!holds(r)) return;
   const int lost_for = static_cast<int>(frame.seq - t->lost_seq);
@@ -510,7 +512,7 @@ class TrackSet::Matching {
                     t->pose, options().refine);
       if (r.tracking) t->pose = r.model_to_camera;
     }
-    t->inward_pose = t->pose;
+    if (r.in_image >= options().refine.min_in_image_to_turn) t->inward_pose = t->pose;
     t->time_s = frame_.time_s;
     return r;
   }
@@ -540,10 +542,11 @@ class TrackSet::Matching {
   void Retake(Track* t, const Detection& d) {
     t->first_check = false;
     if (!MoveBetweenSightings(t, d)) return;
-    const Eigen::Matrix4f tracked = t->pose;
+    const Eigen::Matrix4f tracked = t->pose, inward = t->inward_pose;
     const TrackResult r = TakePose(t, d);
     if (!r.tracking || AtImageEdge(r, Score(*t, tracked))) {
       t->pose = tracked;
+      t->inward_pose = inward;
       return;
     }
     t->fitness = r.fitness;
@@ -624,10 +627,6 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
   ForgetLongSearches(frame.seq, events);
   for (Track& t : tracks_)
     if (Held(t)) Refine(frame, models, &t, events);
-  for (Track& t : tracks_)
-    if (t.state == TrackState::kSearching && t.watched && FrameUsable(frame) &&
-        frame.seq - t.lost_seq <= options_.watch_lost_frames)
-      Watch(frame, models, &t, events);
   if (frame.sweep) ++sweeps_;
   std::vector<Detection> untracked;
   if (frame.recognized) {
@@ -637,6 +636,12 @@ std::vector<Detection> TrackSet::Update(const TrackFrame& frame,
     matching.MissTheUnfound();
     untracked = std::move(matching.untracked);
   }
+  // After recognition's instances: a track they did not take back is watched, and one the
+  // watch takes back is re-checked on the next frame, not judged by this frame's recognition.
+  for (Track& t : tracks_)
+    if (t.state == TrackState::kSearching && t.watched && FrameUsable(frame) &&
+        frame.seq - t.lost_seq <= options_.watch_lost_frames)
+      Watch(frame, models, &t, events);
   CountUnheldFrames(models, frame.sweep);  // the sweep clock of the models no track holds
   std::vector<Detection> tracked;
   tracked.reserve(tracks_.size() + untracked.size());

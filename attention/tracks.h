@@ -184,7 +184,8 @@ class TrackSet {
     std::int64_t lost_seq = -1;  // the frame it was lost on, -1 while held
     bool watched = false;        // lost by the frame, not by re-checks: tried at its last pose
     /// The last held pose with at least min_in_image_to_turn of it in the image: where an
-    /// object that left at the edge is seen again when it comes back the way it went.
+    /// object that left at the edge is seen again when it comes back the way it went
+    /// (identity: none yet).
     Eigen::Matrix4f inward_pose = Eigen::Matrix4f::Identity();
     /// Re-acquired where it was lost and not confirmed by recognition since: its turn is held
     /// until it is wholly in the image (its motion is not known yet: a turn would absorb it).

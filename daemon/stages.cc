@@ -529,12 +529,14 @@ std::string PublishStage::RunLine(double seconds, const SourceStats& source) con
   return run;
 }
 
-void ArrivalPeriod::Add(std::int64_t arrival_ns) {
-  if (last_ns_ > 0 && arrival_ns > last_ns_) {
+void ArrivalPeriod::Add(std::int64_t arrival_ns, std::uint64_t sequence) {
+  if (last_ns_ > 0 && arrival_ns > last_ns_ && sequence > last_sequence_) {
     if (intervals_.size() == kIntervals) intervals_.erase(intervals_.begin());
-    intervals_.push_back(arrival_ns - last_ns_);
+    intervals_.push_back((arrival_ns - last_ns_) /
+                         static_cast<std::int64_t>(sequence - last_sequence_));
   }
   last_ns_ = arrival_ns;
+  last_sequence_ = sequence;
 }
 
 std::int64_t ArrivalPeriod::ns() const {

@@ -89,17 +89,19 @@ struct Job {
 };
 
 /// How often a live source's frames arrive: the median of the last intervals between the
-/// frames the pipeline took (one dropped between two doubles an interval; the median passes
-/// over it).
+/// frames the pipeline took, each divided by the frames the source made in it (their
+/// sequence numbers): frames dropped between two do not stretch the period, which would give
+/// the looks more time and drop more.
 class ArrivalPeriod {
  public:
-  void Add(std::int64_t arrival_ns);
+  void Add(std::int64_t arrival_ns, std::uint64_t sequence);
   /// 0 until two frames have arrived.
   std::int64_t ns() const;
 
  private:
   static constexpr std::size_t kIntervals = 15;
   std::int64_t last_ns_ = 0;
+  std::uint64_t last_sequence_ = 0;
   std::vector<std::int64_t> intervals_;  // the last kIntervals, oldest first
 };
 

@@ -253,7 +253,7 @@ std::shared_ptr<Job> Tracker::Impl::NextJob(std::string* source_error) {
   }
   if (job->frame.arrival_steady_ns == 0) job->frame.arrival_steady_ns = SteadyNowNs();
   if (source->Live()) {
-    arrivals.Add(job->frame.arrival_steady_ns);
+    arrivals.Add(job->frame.arrival_steady_ns, job->frame.sequence);
     if (settings.pipeline.looks_keep_pace)
       job->looks_until_ns = LooksUntilNs(job->frame.arrival_steady_ns, arrivals.ns(),
                                          settings.pipeline.frames_in_flight);

@@ -268,6 +268,15 @@ TEST(TrackSet, ALostTrackIsReacquiredWhereItWasLostWhenTheFrameShowsItThereAgain
   EXPECT_EQ(out[0].track_state, TrackState::kLost);
   out = tracks.Update(d.Frame(6, d.demo.scene.cloud, false), d.Models(), {}, nullptr);
   EXPECT_EQ(out[0].track_state, TrackState::kSearching);
+  // Taken back on a frame recognition also ran on and found nothing: recognition had its
+  // chance first; the track is re-acquired and its re-check is the next frame's.
+  TrackSet searched(o);
+  d.FindThenLose(&searched);
+  searched.Update(d.Frame(3, d.empty, true), d.Models(), {}, nullptr);
+  out = searched.Update(d.Frame(4, d.demo.scene.cloud, true), d.Models(), {}, nullptr);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].track_state, TrackState::kReacquired);
+  EXPECT_TRUE(searched.RecheckAt());
   // Past the watch (lost on frame 2, back on frame 5, 3 frames on): recognition's alone.
   TrackSet late(o);
   d.FindThenLose(&late);

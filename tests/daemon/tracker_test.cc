@@ -168,10 +168,17 @@ TEST(Tracker, LooksEndBeforeTheFrameAfterArrives) {
   EXPECT_EQ(LooksUntilNs(100 * ms, 40 * ms, 2), 170 * ms);
   ArrivalPeriod period;
   EXPECT_EQ(period.ns(), 0);
-  period.Add(1000 * ms);
+  period.Add(1000 * ms, 10);
   EXPECT_EQ(period.ns(), 0);
-  // 33 ms apart, with one frame dropped (66 ms) and one late (40 ms): the median holds 33.
-  for (const std::int64_t at : {1033, 1066, 1132, 1165, 1205, 1238}) period.Add(at * ms);
+  // 33 ms apart, one late (40 ms) and one early (26 ms): the median holds 33.
+  std::uint64_t seq = 10;
+  for (const std::int64_t at : {1033, 1066, 1106, 1132, 1165}) period.Add(at * ms, ++seq);
+  EXPECT_EQ(period.ns(), 33 * ms);
+  // Then every second frame dropped for a while (66 ms, two frames a gap): still 33.
+  for (int i = 1; i <= 10; ++i) {
+    seq += 2;
+    period.Add((1165 + 66 * i) * ms, seq);
+  }
   EXPECT_EQ(period.ns(), 33 * ms);
 }
 
