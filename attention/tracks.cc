@@ -201,6 +201,17 @@ void TrackSet::Refine(const TrackFrame& frame, const std::vector<TrackModel>& mo
   ++t->frames_since_check;
 }
 
+void TrackSet::Tentative(Track* t, bool watched_back) const {
+  t->state = TrackState::kReacquired;
+  // Tentative: re-checked on the next frame, where one miss loses it.
+  t->frames_since_check = options_.recheck_every;
+  t->unconfirmed = options_.unconfirmed_rechecks - 1;
+  t->lost_seq = -1;
+  t->rewatched = watched_back;
+  t->motion = Eigen::Matrix4f::Identity();
+  t->motion_dt_s = 0;
+}
+
 void TrackSet::Watch(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
                      std::string* events) {
   // From where it was lost, and from where it was last well inside the image (an object
@@ -216,19 +227,12 @@ void TrackSet::Watch(const TrackFrame& frame, const std::vector<TrackModel>& mod
     r = TrackPose(model, *frame.cloud, frame.intrinsics, t->inward_pose, o);
   if (!holds(r)) return;
   const int lost_for = static_cast<int>(frame.seq - t->lost_seq);
-  t->state = TrackState::kReacquired;
+  Tentative(t, /*watched_back=*/true);
   t->pose = r.model_to_camera;
   t->time_s = frame.time_s;
-  t->motion = Eigen::Matrix4f::Identity();
-  t->motion_dt_s = 0;
   t->fitness = r.fitness;
   t->coverage = r.coverage;
-  t->lost_seq = -1;
   t->watched = false;
-  t->rewatched = true;
-  // Tentative, as any re-acquisition: re-checked on the next frame, where one miss loses it.
-  t->frames_since_check = options_.recheck_every;
-  t->unconfirmed = options_.unconfirmed_rechecks - 1;
   t->first_check = false;
   // What it is published with: the frame's support, not a recognition's.
   Detection& found = t->found;
@@ -473,15 +477,8 @@ class TrackSet::Matching {
     const bool was_held = t.lost_seq == frame_.seq;  // a new track's is -1
     const Eigen::Matrix4f last = t.pose;
     const double last_s = t.time_s;
-    t.state = TrackState::kReacquired;
-    // Tentative: re-checked on the next frame, where one miss loses it.
-    t.frames_since_check = options().recheck_every;
-    t.unconfirmed = options().unconfirmed_rechecks - 1;
-    t.lost_seq = -1;
-    t.rewatched = false;
+    set_.Tentative(&t, /*watched_back=*/false);
     const TrackModel& model = models_[std::size_t(t.model)];
-    t.motion = Eigen::Matrix4f::Identity();
-    t.motion_dt_s = 0;
     // A put-back corrects a held track's pose, not its motion; a re-acquisition farther than
     // reacquire_radius_m may be another instance of the model.
     const bool sighted = !put_back && MoveBetweenSightings(&t, d, options().reacquire_radius_m);

@@ -203,6 +203,9 @@ class TrackSet {
   }
   void Refine(const TrackFrame& frame, const std::vector<TrackModel>& models, Track* t,
               std::string* events);
+  /// RE-ACQUIRED, tentative (re-checked on the next frame, where one miss loses it), no motion
+  /// known; `watched_back`: by Watch, not by recognition (Track::rewatched).
+  void Tentative(Track* t, bool watched_back) const;
   /// A lost track within watch_lost_frames, refined (its turn held) from its last held pose,
   /// else from its inward_pose: RE-ACQUIRED where that holds with kMinInImageToWatch of it in
   /// the image.

@@ -52,13 +52,30 @@ bool FacesCamera(const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
   return p.z() > 0.05f && n.allFinite() && n.dot(p) < 0;
 }
 
+// Whether pixel coordinates `uv` fall inside the image.
+bool InsideImage(const CameraIntrinsics& k, const Eigen::Vector2d& uv) {
+  return uv.x() > -0.5 && uv.y() > -0.5 && uv.x() < k.width - 0.5 && uv.y() < k.height - 0.5;
+}
+
+// Where a model point stands for the in-image share (InImageShare): facing the camera, and
+// then inside the image.
+struct InView {
+  int facing = 0, inside = 0;
+  float Share() const { return facing > 0 ? float(inside) / float(facing) : 1.0f; }
+};
+
+// `in_view`, when given, counts the point (PairOf's pass doubles as InImageShare's).
 std::optional<Pair> PairOf(const VerificationModel& model, std::size_t i, const Cloud& frame,
                            const CameraIntrinsics& k, const Eigen::Isometry3f& X_CM,
-                           int normal_step_px) {
+                           int normal_step_px, InView* in_view = nullptr) {
   const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
   const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
   if (!FacesCamera(p, n)) return std::nullopt;
   const Eigen::Vector2d uv = k.Project(p);
+  if (in_view) {
+    ++in_view->facing;
+    in_view->inside += InsideImage(k, uv);
+  }
   const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
   const std::optional<Seen> seen = SeenAt(frame, u, v, normal_step_px);
   if (!seen) return std::nullopt;
@@ -69,16 +86,15 @@ std::optional<Pair> PairOf(const VerificationModel& model, std::size_t i, const 
 // when none faces it).
 float InImageShare(const VerificationModel& model, const CameraIntrinsics& k,
                    const Eigen::Isometry3f& X_CM) {
-  int facing = 0, inside = 0;
+  InView in_view;
   for (std::size_t i = 0; i < model.points.size(); ++i) {
     const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
     const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
     if (!FacesCamera(p, n)) continue;
-    ++facing;
-    const Eigen::Vector2d uv = k.Project(p);
-    inside += uv.x() > -0.5 && uv.y() > -0.5 && uv.x() < k.width - 0.5 && uv.y() < k.height - 0.5;
+    ++in_view.facing;
+    in_view.inside += InsideImage(k, k.Project(p));
   }
-  return facing > 0 ? float(inside) / float(facing) : 1.0f;
+  return in_view.Share();
 }
 
 // The score of pose X_CM (its facing, inliers, free space, fitness, coverage, residual).
@@ -86,8 +102,9 @@ TrackResult Score(const VerificationModel& model, const Cloud& frame, const Came
                   const Eigen::Isometry3f& X_CM, const TrackOptions& o) {
   TrackResult result;
   double sq = 0;
+  InView in_view;
   for (std::size_t i = 0; i < model.points.size(); ++i) {
-    const std::optional<Pair> pr = PairOf(model, i, frame, k, X_CM, o.normal_step_px);
+    const std::optional<Pair> pr = PairOf(model, i, frame, k, X_CM, o.normal_step_px, &in_view);
     if (!pr) continue;
     ++result.facing;
     const float distance = (pr->p - pr->seen.point).norm();
@@ -100,7 +117,7 @@ TrackResult Score(const VerificationModel& model, const Cloud& frame, const Came
     }
   }
   result.model_to_camera = X_CM.matrix();
-  result.in_image = InImageShare(model, k, X_CM);
+  result.in_image = in_view.Share();
   if (result.inliers + result.free_space > 0)
     result.fitness = float(result.inliers) / float(result.inliers + result.free_space);
   if (result.facing > 0) result.coverage = float(result.inliers) / float(result.facing);
