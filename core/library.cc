@@ -87,6 +87,7 @@ LibraryResult RecognizeLibrary(const Library& library, const Cloud& scene, const
   LibraryResult out;
   out.per_model.resize(library.size());
   const auto wanted = [&](std::size_t m) { return which.empty() || which[m]; };
+  SceneNormals normals;  // the groups' descriptions read one set of normals
   for (const Library::Group& g : library.groups_) {
     if (std::none_of(g.models.begin(), g.models.end(), wanted)) continue;
     const auto t_total = Clock::now();
@@ -94,7 +95,7 @@ LibraryResult RecognizeLibrary(const Library& library, const Cloud& scene, const
     // group's radii: its models' radii are one.
     const RecognitionOptions options = RadiiForModel(given, library.model(g.models[0]).scale());
     std::optional<SceneDescription> described =
-        DescribeScene(scene, query, options, parallel_for, error);
+        DescribeScene(scene, query, options, parallel_for, error, &normals);
     if (!described) break;  // the scene has no finite point: the same for every group
     ++out.scene_descriptions;
     for (const auto& [stage, ms] : described->stats.stage_ms) out.describe_ms += ms;

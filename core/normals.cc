@@ -96,6 +96,38 @@ Normals OrganizedNormals(const Cloud& cloud, const CameraIntrinsics& /*intrinsic
   return normals;
 }
 
+const Normals& SceneNormals::On(const Cloud& cloud, const CameraIntrinsics* intrinsics,
+                                int k_neighbors, const std::vector<std::uint8_t>& where,
+                                const ParallelFor& parallel_for) {
+  SACCADE_CHECK(where.size() == cloud.size(), "a normals mask of another cloud's size");
+  const bool organized = intrinsics != nullptr;
+  if (cloud_ != &cloud || organized_ != organized || k_neighbors_ != k_neighbors) {
+    cloud_ = &cloud;
+    organized_ = organized;
+    k_neighbors_ = k_neighbors;
+    normals_.clear();
+    done_.assign(cloud.size(), 0);
+  }
+  std::vector<std::uint8_t> todo(where.size(), 0);
+  bool any = false;
+  for (std::size_t i = 0; i < where.size(); ++i) {
+    if (!where[i] || done_[i]) continue;
+    todo[i] = done_[i] = 1;
+    any = true;
+  }
+  if (!any) return normals_;
+  Normals computed = organized
+                         ? OrganizedNormals(cloud, *intrinsics, todo, k_neighbors, parallel_for)
+                         : KnnNormals(cloud, todo, k_neighbors);
+  if (normals_.empty()) {
+    normals_ = std::move(computed);
+  } else {
+    for (std::size_t i = 0; i < todo.size(); ++i)
+      if (todo[i]) normals_[i] = computed[i];
+  }
+  return normals_;
+}
+
 Normals KnnNormals(const Cloud& cloud, const std::vector<std::uint8_t>& mask, int k_neighbors) {
   Normals normals(cloud.size(), Eigen::Vector3f::Constant(kNaN));
   // The search surface is every finite point at a distinct place (full resolution), the queries

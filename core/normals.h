@@ -24,6 +24,25 @@ Normals OrganizedNormals(const Cloud& cloud, const CameraIntrinsics& intrinsics,
 /// towards the cloud's sensor_origin_ (where the sensor was, in the cloud's frame).
 Normals KnnNormals(const Cloud& cloud, const std::vector<std::uint8_t>& mask, int k_neighbors);
 
+/// One frame's normals, each computed the first time a mask asks for it and kept: a frame
+/// described at several radii (a library's) computes each normal once. A point's normal does
+/// not depend on which other points are asked for, so they are the normals one call would give.
+/// Lives for one search of one frame; a call with another cloud, kind or k starts afresh.
+class SceneNormals {
+ public:
+  /// The normals of `cloud`, set on `where` (and on whatever was asked for before): from its
+  /// pixel windows (OrganizedNormals) when `intrinsics` is given, else from k nearest neighbours.
+  const Normals& On(const Cloud& cloud, const CameraIntrinsics* intrinsics, int k_neighbors,
+                    const std::vector<std::uint8_t>& where, const ParallelFor& parallel_for);
+
+ private:
+  const Cloud* cloud_ = nullptr;
+  bool organized_ = false;
+  int k_neighbors_ = 0;
+  Normals normals_;
+  std::vector<std::uint8_t> done_;
+};
+
 /// Principal axes of a point set (PCA): the mean, and the covariance's eigenvalues (variances,
 /// ascending) with their unit eigenvectors (columns, same order).
 struct PrincipalAxes {

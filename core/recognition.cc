@@ -62,7 +62,8 @@ std::size_t RecognitionStats::TotalKeypoints() const {
 
 std::optional<SceneDescription> DescribeScene(const Cloud& scene, const SceneQuery& query,
                                               const RecognitionOptions& options,
-                                              const ParallelFor& parallel_for, std::string* error) {
+                                              const ParallelFor& parallel_for, std::string* error,
+                                              SceneNormals* shared_normals) {
   SceneDescription out;
   auto& stats = out.stats;
   auto t = Clock::now();
@@ -131,17 +132,18 @@ std::optional<SceneDescription> DescribeScene(const Cloud& scene, const SceneQue
   DescribeOptions describe;
   describe.shot_radius_m = options.scene_shot_radius_m;
   describe.lrf_radius_m = options.scene_lrf_radius_m;
-  const auto normals_on = [&](const std::vector<std::uint8_t>& where) {
-    return organized ? OrganizedNormals(scene, *intrinsics, where, options.scene_normal_neighbors,
-                                        parallel_for)
-                     : KnnNormals(scene, where, options.scene_normal_neighbors);
+  SceneNormals own_normals;
+  SceneNormals& scene_normals = shared_normals ? *shared_normals : own_normals;
+  const auto normals_on = [&](const std::vector<std::uint8_t>& where) -> const Normals& {
+    return scene_normals.On(scene, organized ? &*intrinsics : nullptr,
+                            options.scene_normal_neighbors, where, parallel_for);
   };
   if (organized && options.max_support_half_window_px > 0) {
     t = Clock::now();
     const Supports supports = FindSupports(scene, keypoints, *search, describe, parallel_for);
     const double ms_supports = MsSince(t);
     t = Clock::now();
-    const Normals normals = normals_on(SupportMask(supports, scene.size()));
+    const Normals& normals = normals_on(SupportMask(supports, scene.size()));
     stats.stage_ms.emplace_back("normals", MsSince(t));
     t = Clock::now();
     out.descriptors =
@@ -149,7 +151,7 @@ std::optional<SceneDescription> DescribeScene(const Cloud& scene, const SceneQue
     stats.stage_ms.emplace_back("describe", ms_supports + MsSince(t));
   } else {
     t = Clock::now();
-    const Normals normals = normals_on(mask);
+    const Normals& normals = normals_on(mask);
     stats.stage_ms.emplace_back("normals", MsSince(t));
     t = Clock::now();
     out.descriptors = DescribeKeypoints(scene, normals, keypoints, *search, describe, parallel_for);

@@ -79,9 +79,12 @@ struct SceneDescription {
 };
 /// Keypoints and descriptors of the scene where the query looks, with `options`' scene radii
 /// (already fitted to the model). nullopt with `error` when the scene has no finite point.
+/// Descriptions of one frame at several radii may share `shared_normals`: each point's normal
+/// is then computed once.
 std::optional<SceneDescription> DescribeScene(const Cloud& scene, const SceneQuery& query,
                                               const RecognitionOptions& options,
-                                              const ParallelFor& parallel_for, std::string* error);
+                                              const ParallelFor& parallel_for, std::string* error,
+                                              SceneNormals* shared_normals = nullptr);
 /// Hough and consensus grouping of `correspondences` (model descriptor, scene descriptor), then
 /// verification: fills result's instances, hypotheses, verdicts, correspondences and stats.
 void GroupAndVerify(const ModelDescription& model, const Cloud& scene,

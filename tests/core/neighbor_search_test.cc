@@ -1,5 +1,5 @@
 // Radius neighbourhoods on organized clouds: wide windows sampled, and normals computed only
-// where supports read them.
+// where supports read them, once for several descriptions.
 #include "core/neighbor_search.h"
 
 #include "core/shot.h"
@@ -16,6 +16,19 @@ namespace {
 
 using testing::BoxCorner;
 using testing::Grid;
+
+// A wavy surface about 0.8 m away, one point per pixel of a 96 x 96 image.
+const CameraIntrinsics kWavyIntrinsics{525, 525, 48, 48, 96, 96};
+Cloud WavySurface() {
+  Cloud surface(96, 96);
+  for (int v = 0; v < 96; ++v)
+    for (int u = 0; u < 96; ++u) {
+      const float z = 0.8f + 0.02f * std::sin(u * 0.15f) * std::cos(v * 0.1f);
+      PointT& p = surface.at(u, v);
+      p.x = (u - 48) * z / 525, p.y = (v - 48) * z / 525, p.z = z;
+    }
+  return surface;
+}
 
 TEST(OrganizedSearch, WideWindowsAreSampledNotCut) {
   // A fronto-parallel plane one metre away, one point per pixel.
@@ -59,14 +72,8 @@ TEST(OrganizedSearch, WideWindowsAreSampledNotCut) {
 
 TEST(OrganizedSearch, NormalsOnlyWhereSupportsReadThemGiveTheSameDescriptors) {
   // A wavy surface about 0.8 m away, one point per pixel; wide supports sampled to 6 px.
-  const CameraIntrinsics k{525, 525, 48, 48, 96, 96};
-  Cloud surface(96, 96);
-  for (int v = 0; v < 96; ++v)
-    for (int u = 0; u < 96; ++u) {
-      const float z = 0.8f + 0.02f * std::sin(u * 0.15f) * std::cos(v * 0.1f);
-      PointT& p = surface.at(u, v);
-      p.x = (u - 48) * z / 525, p.y = (v - 48) * z / 525, p.z = z;
-    }
+  const CameraIntrinsics k = kWavyIntrinsics;
+  const Cloud surface = WavySurface();
   const std::vector<std::uint8_t> everywhere(surface.size(), 1);
   const auto search = MakeOrganizedSearch(surface, k, everywhere, 6);
   std::vector<int> keypoints;
@@ -87,6 +94,30 @@ TEST(OrganizedSearch, NormalsOnlyWhereSupportsReadThemGiveTheSameDescriptors) {
   ASSERT_EQ(all.size(), keypoints.size());
   EXPECT_EQ(all.keypoint, some.keypoint);
   EXPECT_EQ(all.shot, some.shot);
+}
+
+TEST(SceneNormals, NormalsAskedForInPartsAreThoseOfOneCall) {
+  const Cloud surface = WavySurface();
+  const CameraIntrinsics& k = kWavyIntrinsics;
+  std::vector<std::uint8_t> left(surface.size(), 0), right(surface.size(), 0),
+      both(surface.size(), 0);
+  for (std::size_t i = 0; i < surface.size(); ++i) {
+    const int u = int(i % 96);
+    left[i] = u < 60;
+    right[i] = u >= 40;
+    both[i] = left[i] || right[i];
+  }
+  const Normals whole = OrganizedNormals(surface, k, both, 10);
+  SceneNormals shared;
+  const Normals& first = shared.On(surface, &k, 10, left, SerialFor);
+  EXPECT_TRUE(first[10].allFinite());
+  EXPECT_FALSE(first[95].allFinite());  // not asked for yet
+  const Normals& after = shared.On(surface, &k, 10, right, SerialFor);
+  for (std::size_t i = 0; i < surface.size(); ++i) ASSERT_EQ(after[i], whole[i]) << i;
+  // Another k starts afresh: only what it asked for is set.
+  const Normals& other = shared.On(surface, &k, 20, right, SerialFor);
+  EXPECT_FALSE(other[10].allFinite());
+  EXPECT_TRUE(other[95].allFinite());
 }
 
 }  // namespace
