@@ -547,7 +547,7 @@ std::int64_t ArrivalPeriod::ns() const {
 }
 
 std::int64_t LooksUntilNs(std::int64_t arrival_ns, std::int64_t period_ns, int frames_in_flight) {
-  if (period_ns <= 0) return 0;
+  if (period_ns <= 0) return arrival_ns;  // the pace not known yet: no further look
   return arrival_ns + frames_in_flight * period_ns - period_ns / 4;
 }
 

@@ -108,8 +108,9 @@ class ArrivalPeriod {
 /// When a live frame that arrived at `arrival_ns` must end its further looks to keep pace
 /// with the source: before the frame `frames_in_flight` after it arrives (the pipeline then
 /// has room for it: no frame waits, none is overwritten), less a quarter period for tracking
-/// and publishing. 0 (no limit) while the period is not known. A frame that waited (its
-/// predecessor ran late) has less time; a late frame takes no further look.
+/// and publishing. A frame that waited (its predecessor ran late) has less time; a late frame
+/// takes no further look, nor does one that arrives before the period is known (the first: its
+/// looks left over are the next frame's, which knows the pace).
 std::int64_t LooksUntilNs(std::int64_t arrival_ns, std::int64_t period_ns, int frames_in_flight);
 
 /// Loads and describes each model spec (a PCD file, or synthetic:target); several are put on

@@ -163,7 +163,7 @@ TEST(Tracker, ALiveSearchFramePastItsTimeLeavesItsFurtherLooksToTheNextFrame) {
 // frames_in_flight after it arrives; a quarter period is left for tracking and publishing.
 TEST(Tracker, LooksEndBeforeTheFrameAfterArrives) {
   const std::int64_t ms = 1000000;
-  EXPECT_EQ(LooksUntilNs(100 * ms, 0, 1), 0);  // the period not known yet: no limit
+  EXPECT_EQ(LooksUntilNs(100 * ms, 0, 1), 100 * ms);  // the period not known yet: no further look
   EXPECT_EQ(LooksUntilNs(100 * ms, 40 * ms, 1), 130 * ms);
   EXPECT_EQ(LooksUntilNs(100 * ms, 40 * ms, 2), 170 * ms);
   ArrivalPeriod period;
