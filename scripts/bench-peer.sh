@@ -2,8 +2,9 @@
 # The CPU peer beside Saccade's tracker (issue 36, docs/BENCHMARKS.md): ViSP's model-based
 # tracker (vpMbGenericTracker, dense depth; Debian's libvisp-mbt-dev, installed here when
 # missing: saccaded does not need it) on the ViSP cube's real frames, started at the truth's
-# first pose, then `saccade bench-track` on the same frames from a cold start, both scored
-# within 2 cm and 5 degrees against the same truth, the cube's turns onto itself as one. Then
+# first pose, then `saccade bench-track` on the same frames from a cold start (with a model cut
+# from the first frame, and with the peer's own mesh), all scored within 2 cm and 5 degrees
+# against the same truth, the cube's turns onto itself as one. Then
 # the synthetic Kinect's sequences: the peer with the target's mesh (`saccade model
 # --synthetic target`) from the truth's first pose, Saccade from a cold start, both within 1 cm
 # and 2 degrees of the generator's truth.
@@ -57,3 +58,7 @@ truth=(--truth "$visp/truth_cube.csv" --symmetry cube --tolerance-cm 2 --toleran
   --z-max 0.8 --pick nearest > /dev/null
 "$build/daemon/saccade" bench-track --name visp-cube-cut --source "depth:$visp/frames?rate=0" \
   --model "$tmp/cube-cut.pcd" "${truth[@]}" --model-from-frame 0 --config configs/saccaded.yaml
+# The same mesh as the peer's: Saccade's model of it (saccade model --mesh), from a cold start.
+"$build/daemon/saccade" model --mesh "$visp/models/cube.obj" --out "$tmp/cube-mesh.pcd" > /dev/null
+"$build/daemon/saccade" bench-track --name visp-cube-mesh --source "depth:$visp/frames?rate=0" \
+  --model "$tmp/cube-mesh.pcd" "${truth[@]}" --config configs/saccaded.yaml
