@@ -56,10 +56,13 @@ PrincipalAxes ComputePrincipalAxes(const std::vector<Eigen::Vector3f>& points) {
   return out;
 }
 
-Normals OrganizedNormals(const Cloud& cloud, const CameraIntrinsics& /*intrinsics*/,
-                         const std::vector<std::uint8_t>& mask, int k_neighbors,
-                         const ParallelFor& parallel_for) {
-  Normals normals(cloud.size(), Eigen::Vector3f::Constant(kNaN));
+namespace {
+
+// OrganizedNormals into `normals` (the cloud's size): the masked points' entries are set, the
+// others left as they are.
+void FillOrganizedNormals(const Cloud& cloud, const std::vector<std::uint8_t>& mask,
+                          int k_neighbors, const ParallelFor& parallel_for, Normals* out) {
+  Normals& normals = *out;
   const int w = static_cast<int>(cloud.width), h = static_cast<int>(cloud.height);
   int half = 1;
   while ((2 * half + 1) * (2 * half + 1) < k_neighbors + 1) ++half;
@@ -93,6 +96,15 @@ Normals OrganizedNormals(const Cloud& cloud, const CameraIntrinsics& /*intrinsic
       }
     }
   });
+}
+
+}  // namespace
+
+Normals OrganizedNormals(const Cloud& cloud, const CameraIntrinsics& /*intrinsics*/,
+                         const std::vector<std::uint8_t>& mask, int k_neighbors,
+                         const ParallelFor& parallel_for) {
+  Normals normals(cloud.size(), Eigen::Vector3f::Constant(kNaN));
+  FillOrganizedNormals(cloud, mask, k_neighbors, parallel_for, &normals);
   return normals;
 }
 
@@ -116,12 +128,11 @@ const Normals& SceneNormals::On(const Cloud& cloud, const CameraIntrinsics* intr
     any = true;
   }
   if (!any) return normals_;
-  Normals computed = organized
-                         ? OrganizedNormals(cloud, *intrinsics, todo, k_neighbors, parallel_for)
-                         : KnnNormals(cloud, todo, k_neighbors);
-  if (normals_.empty()) {
-    normals_ = std::move(computed);
+  if (normals_.empty()) normals_.assign(cloud.size(), Eigen::Vector3f::Constant(kNaN));
+  if (organized) {
+    FillOrganizedNormals(cloud, todo, k_neighbors, parallel_for, &normals_);
   } else {
+    const Normals computed = KnnNormals(cloud, todo, k_neighbors);
     for (std::size_t i = 0; i < todo.size(); ++i)
       if (todo[i]) normals_[i] = computed[i];
   }

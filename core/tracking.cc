@@ -64,22 +64,33 @@ struct InView {
   float Share() const { return facing > 0 ? float(inside) / float(facing) : 1.0f; }
 };
 
+// Model point i at X_CM, in the camera frame, when it faces the camera; `in_view`, when given,
+// counts it and whether it lands inside the image. Its pixel in `uv`.
+std::optional<Eigen::Vector3f> FacingPoint(const VerificationModel& model, std::size_t i,
+                                           const CameraIntrinsics& k, const Eigen::Isometry3f& X_CM,
+                                           Eigen::Vector2d* uv, InView* in_view) {
+  const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
+  const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
+  if (!FacesCamera(p, n)) return std::nullopt;
+  *uv = k.Project(p);
+  if (in_view) {
+    ++in_view->facing;
+    in_view->inside += InsideImage(k, *uv);
+  }
+  return p;
+}
+
 // `in_view`, when given, counts the point (PairOf's pass doubles as InImageShare's).
 std::optional<Pair> PairOf(const VerificationModel& model, std::size_t i, const Cloud& frame,
                            const CameraIntrinsics& k, const Eigen::Isometry3f& X_CM,
                            int normal_step_px, InView* in_view = nullptr) {
-  const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
-  const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
-  if (!FacesCamera(p, n)) return std::nullopt;
-  const Eigen::Vector2d uv = k.Project(p);
-  if (in_view) {
-    ++in_view->facing;
-    in_view->inside += InsideImage(k, uv);
-  }
+  Eigen::Vector2d uv;
+  const std::optional<Eigen::Vector3f> p = FacingPoint(model, i, k, X_CM, &uv, in_view);
+  if (!p) return std::nullopt;
   const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
   const std::optional<Seen> seen = SeenAt(frame, u, v, normal_step_px);
   if (!seen) return std::nullopt;
-  return Pair{p, *seen};
+  return Pair{*p, *seen};
 }
 
 // The share of the model's points facing the camera at X_CM that project inside the image (1
@@ -87,13 +98,9 @@ std::optional<Pair> PairOf(const VerificationModel& model, std::size_t i, const 
 float InImageShare(const VerificationModel& model, const CameraIntrinsics& k,
                    const Eigen::Isometry3f& X_CM) {
   InView in_view;
-  for (std::size_t i = 0; i < model.points.size(); ++i) {
-    const Eigen::Vector3f p = X_CM * model.points[i].getVector3fMap();
-    const Eigen::Vector3f n = X_CM.linear() * model.normals[i];
-    if (!FacesCamera(p, n)) continue;
-    ++in_view.facing;
-    in_view.inside += InsideImage(k, k.Project(p));
-  }
+  Eigen::Vector2d uv;
+  for (std::size_t i = 0; i < model.points.size(); ++i)
+    FacingPoint(model, i, k, X_CM, &uv, &in_view);
   return in_view.Share();
 }
 
