@@ -251,6 +251,13 @@ std::optional<ModelDescription> DescribeModel(const Cloud& model, const Recognit
   return DescribeModel(std::vector<Cloud>{model}, given, error);
 }
 
+int ModelDescription::ViewOf(int cloud_index) const {
+  if (view_starts_.size() < 2) return 0;
+  const auto after = std::upper_bound(view_starts_.begin(), view_starts_.end(),
+                                      std::size_t(std::max(0, cloud_index)));
+  return std::clamp(int(after - view_starts_.begin()) - 1, 0, int(view_starts_.size()) - 2);
+}
+
 std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>& views,
                                               const RecognitionOptions& given, std::string* error,
                                               float radius_ratio) {
@@ -322,6 +329,18 @@ std::optional<ModelDescription> DescribeModel(const std::vector<Cloud>& views,
   const bool whole_surface = rendered || views.size() > 1;
   out.verification_ = MakeVerificationModel(out.cloud_, normals, options.verify.model_points);
   out.verification_.whole_surface = whole_surface;
+  if (views.size() > 1) {
+    out.view_starts_ = starts;
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      Cloud view;
+      view.points.assign(out.cloud_.begin() + long(starts[v]),
+                         out.cloud_.begin() + long(starts[v + 1]));
+      const std::vector<Eigen::Vector3f> view_normals(normals.begin() + long(starts[v]),
+                                                      normals.begin() + long(starts[v + 1]));
+      out.view_verification_.push_back(
+          MakeVerificationModel(view, view_normals, options.verify.model_points));
+    }
+  }
   if (out.descriptors_.size() == 0) {
     Fail(error, "model has no describable keypoint (too few points for the SHOT radius?)");
     return std::nullopt;

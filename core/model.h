@@ -85,6 +85,11 @@ class ModelDescription {
   /// The turns about centroid() that map a whole-surface model onto itself (core/symmetry.h),
   /// identity first; just the identity for a model seen from one side.
   const std::vector<Eigen::Matrix3f>& symmetries() const { return symmetries_; }
+  /// A model of several captured views: how many, and each view alone as verification uses it
+  /// (its points count as a one-view model's do). Empty for a model of one view or a mesh.
+  const std::vector<VerificationModel>& view_verification() const { return view_verification_; }
+  /// The view holding model point `cloud_index` (an index into cloud()); 0 for one view.
+  int ViewOf(int cloud_index) const;
 
   /// Nearest model descriptor of `shot` (kShotLength floats) within sqrt(max_sqr_distance):
   /// index into descriptors() (-1 when none is that near) and squared distance. The bound
@@ -105,6 +110,8 @@ class ModelDescription {
   VerificationModel verification_;
   ModelScale scale_;
   std::vector<Eigen::Matrix3f> symmetries_{Eigen::Matrix3f::Identity()};
+  std::vector<VerificationModel> view_verification_;
+  std::vector<std::size_t> view_starts_;  // view v is cloud_[view_starts_[v], view_starts_[v + 1])
   std::unique_ptr<ShotIndex> index_;
 };
 

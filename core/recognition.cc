@@ -51,6 +51,59 @@ std::vector<int> BudgetedWindow(const Cloud& scene, const std::vector<int>& keyp
   return kept;
 }
 
+// A model of several captured views is verified as one surface, its views placed where their
+// alignment put them; a view misplaced by that alignment makes a right pose look wrong (points
+// in front of the scene, a share of the surface missing). A hypothesis the whole model failed
+// (not one a better instance took) is verified again against the view most of its votes came
+// from, as that view alone would be as a one-view model, and kept where nothing kept is and it is
+// confident enough (VerificationOptions::min_view_confidence).
+void VerifyByViews(const ModelDescription& model, const Cloud& scene,
+                   const SceneDescription& described, const RecognitionOptions& options,
+                   const ParallelFor& parallel_for, const std::vector<std::size_t>& verified,
+                   RecognitionResult* result) {
+  const auto& views = model.view_verification();
+  if (views.empty() || options.verify.min_view_confidence >= 1) return;
+  VerificationOptions alone = options.verify;
+  alone.min_confidence = std::max(alone.min_confidence, alone.min_view_confidence);
+  const auto failed = [](Verdict v) {
+    return v == Verdict::kNoFit || v == Verdict::kFlat || v == Verdict::kColour ||
+           v == Verdict::kNoOutline || v == Verdict::kUnconfident;
+  };
+  std::vector<std::vector<std::size_t>> by_view(views.size());  // into result->hypotheses
+  for (std::size_t h : verified) {
+    if (!failed(result->verdicts[h])) continue;
+    std::vector<int> votes(views.size(), 0);
+    for (const auto& [m, s] : result->hypotheses[h].correspondences) ++votes[model.ViewOf(m)];
+    by_view[std::max_element(votes.begin(), votes.end()) - votes.begin()].push_back(h);
+  }
+  std::vector<std::pair<Detection, std::size_t>> kept;  // with its hypothesis
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    if (by_view[v].empty()) continue;
+    std::vector<Detection> again;
+    for (std::size_t h : by_view[v]) again.push_back(result->hypotheses[h]);
+    for (Detection& d : VerifyInstances(views[v], model.centroid(), scene, described.intrinsics,
+                                        std::move(again), alone, parallel_for)) {
+      const auto h = std::find_if(by_view[v].begin(), by_view[v].end(), [&](std::size_t i) {
+        return result->hypotheses[i].correspondences == d.correspondences;
+      });
+      if (h != by_view[v].end()) kept.emplace_back(std::move(d), *h);
+    }
+  }
+  std::stable_sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) {
+    return a.first.confidence > b.first.confidence;
+  });
+  // Two instances cannot be one object: nearer than the model's half diagonal, the one kept
+  // first stays (the whole model's before any view's).
+  const float apart = model.verification().radius_m;
+  for (auto& [d, h] : kept) {
+    const bool near = std::any_of(
+        result->instances.begin(), result->instances.end(),
+        [&](const Detection& o) { return (o.centroid_m - d.centroid_m).norm() < apart; });
+    result->verdicts[h] = near ? Verdict::kTakenByBetter : Verdict::kKept;
+    if (!near) result->instances.push_back(std::move(d));
+  }
+}
+
 }  // namespace
 
 std::size_t RecognitionStats::TotalPoints() const {
@@ -207,6 +260,7 @@ void GroupAndVerify(const ModelDescription& model, const Cloud& scene,
     result->verdicts.assign(result->hypotheses.size(), Verdict::kFewVotes);
     for (std::size_t i = 0; i < verdicts.size(); ++i)
       result->verdicts[significant_index[i]] = verdicts[i];
+    VerifyByViews(model, scene, described, options, parallel_for, significant_index, result);
   }
   stats.stage_ms.emplace_back("verify", MsSince(t));
 }

@@ -37,6 +37,7 @@ bool VerificationOptions::IsValid(std::string* error) const {
       {"verify_min_depth_ratio", min_depth_ratio},
       {"verify_min_colour_agreement", min_colour_agreement},
       {"verify_min_confidence", min_confidence},
+      {"verify_min_view_confidence", min_view_confidence},
       {"verify_max_continued", max_continued}};
   for (const auto& [name, v] : shares)
     if (!(v >= 0 && v <= 1)) return Fail(error, std::string(name) + " must be in [0, 1]");

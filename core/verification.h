@@ -42,6 +42,11 @@ struct VerificationOptions {
   bool use_colour = true;
   /// Kept when its confidence (InstanceConfidence) reaches this.
   float min_confidence = 0.5f;
+  /// A model of several captured views: a pose the whole model fails is verified again against
+  /// the view most of its votes came from (a view its alignment misplaced hides a right pose),
+  /// and kept when that confidence reaches this (and min_confidence). A second try is a second
+  /// chance for a wrong pose too (docs/RESULTS.md, "A view verified alone"). 1: no second try.
+  float min_view_confidence = 0.8f;
   /// A camera-facing model point this far or less behind the seen surface is sunk into it.
   float max_sink_m = 0.05f;
   /// Kept when at most this share of the places just outside the instance's outline (as the
@@ -69,6 +74,7 @@ struct VerificationOptions {
     a->Visit("verify_min_depth_ratio", &min_depth_ratio);
     a->Visit("verify_min_colour_agreement", &min_colour_agreement);
     a->Visit("verify_min_confidence", &min_confidence);
+    a->Visit("verify_min_view_confidence", &min_view_confidence);
     a->Visit("verify_colour", &use_colour);
     a->Visit("verify_max_sink_m", &max_sink_m);
     a->Visit("verify_max_continued", &max_continued);
