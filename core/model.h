@@ -85,8 +85,8 @@ class ModelDescription {
   /// The turns about centroid() that map a whole-surface model onto itself (core/symmetry.h),
   /// identity first; just the identity for a model seen from one side.
   const std::vector<Eigen::Matrix3f>& symmetries() const { return symmetries_; }
-  /// A model of several captured views: how many, and each view alone as verification uses it
-  /// (its points count as a one-view model's do). Empty for a model of one view or a mesh.
+  /// A model of several captured views: each view alone as verification uses it (its points
+  /// count as a one-view model's do), in the views' order. Empty for one view or a mesh.
   const std::vector<VerificationModel>& view_verification() const { return view_verification_; }
   /// The view holding model point `cloud_index` (an index into cloud()); 0 for one view.
   int ViewOf(int cloud_index) const;

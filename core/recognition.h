@@ -36,7 +36,9 @@ struct RecognitionStats {
 };
 
 struct RecognitionResult {
-  std::vector<Detection> instances;  // verified: best first; unverified: by votes, most first
+  /// Verified: best first (then those a model of views kept by one view, VerifyByViews, most
+  /// confident first); unverified: by votes, most first.
+  std::vector<Detection> instances;
   /// What grouping proposed before verification (by votes, most first; the same as `instances`
   /// when verification is off): for evaluations that ask where a miss was lost.
   std::vector<Detection> hypotheses;
