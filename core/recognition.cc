@@ -65,13 +65,9 @@ void VerifyByViews(const ModelDescription& model, const Cloud& scene,
   if (views.empty() || options.verify.min_view_confidence >= 1) return;
   VerificationOptions alone = options.verify;
   alone.min_confidence = std::max(alone.min_confidence, alone.min_view_confidence);
-  const auto failed = [](Verdict v) {
-    return v == Verdict::kNoFit || v == Verdict::kFlat || v == Verdict::kColour ||
-           v == Verdict::kNoOutline || v == Verdict::kUnconfident;
-  };
   std::vector<std::vector<std::size_t>> by_view(views.size());  // into result->hypotheses
   for (std::size_t h : verified) {
-    if (!failed(result->verdicts[h])) continue;
+    if (!FailedACheck(result->verdicts[h])) continue;
     std::vector<int> votes(views.size(), 0);
     for (const auto& [m, s] : result->hypotheses[h].correspondences) ++votes[model.ViewOf(m)];
     by_view[std::max_element(votes.begin(), votes.end()) - votes.begin()].push_back(h);

@@ -376,6 +376,11 @@ const char* VerdictName(Verdict v) {
   return "?";
 }
 
+bool FailedACheck(Verdict v) {
+  return v == Verdict::kNoFit || v == Verdict::kFlat || v == Verdict::kColour ||
+         v == Verdict::kNoOutline || v == Verdict::kUnconfident;
+}
+
 VerificationModel MakeVerificationModel(const Cloud& model,
                                         const std::vector<Eigen::Vector3f>& normals,
                                         int max_points) {

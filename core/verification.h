@@ -138,6 +138,9 @@ enum class Verdict {
   kFewVotes,       // not verified: its votes do not stand out of its model's matches
 };
 const char* VerdictName(Verdict v);
+/// True when one of verification's checks refused the candidate (no fit, flat, colour, no outline,
+/// unconfident): not when it was kept, left unchecked, had too few votes, or a better one took it.
+bool FailedACheck(Verdict v);
 
 /// The share of the places just outside the outline of `points` (camera frame, projected with
 /// `k` into the organized `scene`, spaced about `spacing_m` apart) where the scene continues

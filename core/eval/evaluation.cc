@@ -80,8 +80,7 @@ CaseStage DiagnoseCase(const CaseEvidence& e, bool has_truth_pose) {
            e.true_hypotheses.end();
   };
   if (any(Verdict::kTakenByBetter) || any(Verdict::kKept)) return CaseStage::kOutranked;
-  if (any(Verdict::kNoFit) || any(Verdict::kFlat) || any(Verdict::kNoOutline) ||
-      any(Verdict::kColour) || any(Verdict::kUnconfident))
+  if (std::any_of(e.true_hypotheses.begin(), e.true_hypotheses.end(), FailedACheck))
     return CaseStage::kRejected;
   return CaseStage::kNotVerified;
 }
