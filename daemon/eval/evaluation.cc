@@ -72,16 +72,21 @@ EvalModel ViewsEvalModel(std::vector<Cloud> views) {
   for (const Cloud& view : views) {
     const std::vector<std::uint8_t> mask(view.size(), 1);
     const Normals normals = KnnNormals(view, mask, 10);
+    Cloud& kept = m.views.emplace_back();
     for (std::size_t i = 0; i < view.size(); ++i) {
       if (!FinitePoint(view[i])) continue;
       m.cloud.push_back(view[i]);
+      kept.push_back(view[i]);
       if (i % 8 || !normals[i].allFinite()) continue;
       m.sample.push_back(view[i].getVector3fMap());
       m.sample_normals.push_back(normals[i]);
     }
+    // Only its finite points and its sensor are described (DescribeModel): a capture's whole
+    // organized frame, NaN outside the object, would hold ~10 MB a view for every case.
+    kept.sensor_origin_ = view.sensor_origin_;
+    kept.sensor_orientation_ = view.sensor_orientation_;
   }
   if (const auto c = FiniteCentroid(m.cloud)) m.centre = *c;
-  m.views = std::move(views);
   return m;
 }
 
