@@ -151,11 +151,12 @@ int WriteLibraryReport(const fs::path& dir, const std::vector<eval::LibraryRow>&
   std::string error;
   std::ostringstream csv;
   csv << "scene,models,instances,found,false_instances,descriptions,ms,describe_ms,match_ms,"
-         "group_ms,verify_ms,detail\n";
+         "group_ms,verify_ms,costliest_alone_ms,detail\n";
   for (const eval::LibraryRow& r : rows)
     csv << r.scene << "," << r.size << "," << r.instances << "," << r.found << ","
         << r.false_instances << "," << r.descriptions << "," << r.ms << "," << r.describe_ms << ","
-        << r.match_ms << "," << r.group_ms << "," << r.verify_ms << "," << r.detail << "\n";
+        << r.match_ms << "," << r.group_ms << "," << r.verify_ms << "," << r.costliest_alone_ms
+        << "," << r.detail << "\n";
   std::ostringstream instances;
   instances << "scene,models,identity,label,kept,confidence,fitness,coverage,continued,colour,"
                "texture,votes,matches,model_points,model_size_m,spacing_m,x,y,z\n";

@@ -42,9 +42,9 @@ struct EvalModel {
   Cloud cloud;
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();
   /// A model of several captures (eval --model-source other-captures): its views (each its
-  /// finite points and sensor origin), described together, and a sample of its points with their normals (facing their sensor). Such a
-  /// model is scored at the centroid of the points its pose turns towards the camera, the side
-  /// a scene's labelled points show, instead of at `centre`.
+  /// finite points and sensor origin), described together, and a sample of its points with their
+  /// normals (facing their sensor). Such a model is scored at the centroid of the points its pose
+  /// turns towards the camera, the side a scene's labelled points show, instead of at `centre`.
   std::vector<Cloud> views;
   std::vector<Eigen::Vector3f> sample, sample_normals;
   /// Where the scored point of the model lands under `model_to_scene`.

@@ -54,6 +54,10 @@ struct LibraryRow {
   double ms = 0;            // the library search (describing the frame, matching, grouping)
   int descriptions = 0;     // descriptions of the frame it made (radii)
   double describe_ms = 0, match_ms = 0, group_ms = 0, verify_ms = 0;  // LibraryResult's
+  /// The costliest of the library's models searched alone on the same frame: one model of each
+  /// radius the library describes the frame at, timed alone, the slowest (0 for one model).
+  /// A small radius places more keypoints, so one small model can cost what a library does.
+  double costliest_alone_ms = 0;
   std::string detail;                       // "identity:found|missed|false ..." for the record
   std::vector<LibraryInstance> candidates;  // every model's instances, kept or not
 };
@@ -65,7 +69,8 @@ bool RunLibraryBench(const std::string& cases_path, const std::string& data_dir,
                      std::string* error);
 
 /// Recall with its interval, false instances per capture, median ms and its ratio to the
-/// smallest library's, per size: a Markdown table.
+/// smallest library's and to the library's costliest model searched alone, per size: a
+/// Markdown table.
 std::string LibrarySummary(const std::vector<LibraryRow>& rows);
 
 }  // namespace saccade::eval

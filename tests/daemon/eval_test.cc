@@ -141,6 +141,8 @@ TEST(EvalLibrary, ThreeIdentitiesAreSearchedInFourCapturesAndScoredAgainstTheirL
     }
     // Three models on two radii of the grid (recognition.library_radius_ratio): two descriptions.
     EXPECT_EQ(r.descriptions, r.size == 1 ? 1 : 2) << r.scene << " " << r.size;
+    // The costliest model alone is timed for a library of several only.
+    EXPECT_EQ(r.costliest_alone_ms > 0, r.size > 1) << r.scene << " " << r.size;
     for (const LibraryInstance& c : r.candidates)
       EXPECT_TRUE(c.identity == "coffee_can" || c.identity == "cocoa_carton" ||
                   c.identity == "beige_bowl")
