@@ -234,6 +234,28 @@ ModelSignature SignModel(const ModelDescription& model) {
   return SignModel(model.cloud(), model.scale().spacing_m, &model.verification());
 }
 
+std::optional<Eigen::Vector4f> TablePlane(const Cloud& organized, const CandidateOptions& o) {
+  if (!organized.isOrganized() || organized.empty()) return std::nullopt;
+  std::vector<Sample> samples;
+  std::size_t pixels = 0;
+  for (std::uint32_t v = 0; v < organized.height; v += o.stride_px)
+    for (std::uint32_t u = 0; u < organized.width; u += o.stride_px) {
+      ++pixels;
+      const PointT& p = organized(u, v);
+      if (FinitePoint(p) && p.z > 0 && p.z <= o.z_max_m)
+        samples.push_back({p.getVector3fMap(), -1});
+    }
+  const auto plane = LargestPlane(samples, o);
+  if (!plane) return std::nullopt;
+  // A table spans a share of the image, not only of what was seen: an object cut out of its
+  // frame (NaN around it) has a largest face, and it is no table.
+  const std::size_t on = std::count_if(samples.begin(), samples.end(), [&](const Sample& s) {
+    return std::abs(plane->head<3>().dot(s.p) + (*plane)[3]) <= o.plane_distance_m;
+  });
+  if (float(on) < o.min_plane_fraction * float(pixels)) return std::nullopt;
+  return plane;
+}
+
 std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraIntrinsics& intrinsics,
                                          const ModelSignature& model, const CandidateOptions& o,
                                          CandidateStats* stats) {

@@ -1,5 +1,7 @@
 #include "core/recognition.h"
 
+#include "core/candidates.h"
+
 #include "core/check.h"
 #include "core/fail.h"
 #include "core/nearest_within.h"
@@ -163,6 +165,20 @@ std::optional<SceneDescription> DescribeScene(const Cloud& scene, const SceneQue
     const auto kp = VoxelRepresentatives(scene, level_points[k], level_radius[k]);
     stats.level_keypoints.push_back(kp.size());
     keypoints.insert(keypoints.end(), kp.begin(), kp.end());
+  }
+  if (options.table_keypoint_distance_m > 0 && organized) {
+    if (const auto plane = TablePlane(scene, CandidateOptions{})) {
+      const std::size_t before = keypoints.size();
+      keypoints.erase(std::remove_if(keypoints.begin(), keypoints.end(),
+                                     [&](int i) {
+                                       const Eigen::Vector3f p =
+                                           scene[std::size_t(i)].getVector3fMap();
+                                       return std::abs(plane->head<3>().dot(p) + (*plane)[3]) <=
+                                              options.table_keypoint_distance_m;
+                                     }),
+                      keypoints.end());
+      stats.table_keypoints = before - keypoints.size();
+    }
   }
   if (options.max_scene_keypoints > 0 &&
       keypoints.size() > static_cast<std::size_t>(options.max_scene_keypoints))

@@ -27,6 +27,7 @@ struct RecognitionStats {
   std::size_t described = 0;                 // keypoints with a valid descriptor
   std::size_t correspondences = 0;           // matches below d²_max
   std::size_t hypotheses = 0;                // instances from grouping, before verification
+  std::size_t table_keypoints = 0;  // keypoints on the table, not described (in level_keypoints)
   std::size_t budgeted_out = 0;  // keypoints left out by max_scene_keypoints (in level_keypoints)
   int search_windows = 1;        // windows the budget cut the keypoints into
   /// Milliseconds per stage: foveate, normals, keypoints, describe, match, group, verify, total.

@@ -55,6 +55,8 @@ bool RecognitionOptions::IsValid(std::string* error) const {
     return Fail(error, "max_described_density_m must be finite and >= 0");
   if (!(min_vote_significance >= 0 && min_vote_significance <= 100))
     return Fail(error, "min_vote_significance must be from 0 to 100");
+  if (!(table_keypoint_distance_m >= 0 && table_keypoint_distance_m <= 1))
+    return Fail(error, "table_keypoint_distance_m must be from 0 to 1 (metres)");
   if (!(library_radius_ratio >= 1 && library_radius_ratio <= 4))
     return Fail(error, "library_radius_ratio must be from 1 to 4");
   return verify.IsValid(error);
@@ -66,6 +68,7 @@ RecognitionOptions RecognitionOptions::Paper() {
   o.max_support_half_window_px = 0;
   o.match_branching = 16;
   o.match_checks = 32;
+  o.table_keypoint_distance_m = 0;  // every keypoint of the frame is described
   return o;
 }
 

@@ -74,6 +74,13 @@ struct RecognitionOptions {
   /// a count stands out of its noise do not. 0: no bar beyond hough_threshold. (Chosen on the
   /// library benchmark, docs/RESULTS.md "Votes that stand out".)
   float min_vote_significance = 0.4f;
+  /// Scene keypoints within this distance of the frame's table (its largest plane, found as
+  /// the candidates find it; an organized frame only) are not described: on a whole frame most
+  /// keypoints lie on the table, whose flat patches match every flat face of a model. Its points
+  /// still support the descriptors around them and verification. 0: the table is described
+  /// (Paper()). 1.5 cm is the candidates' table distance (CandidateOptions::plane_distance_m),
+  /// not tuned here (docs/RESULTS.md "The table is not described").
+  float table_keypoint_distance_m = 0.015f;
   /// Hypothesis verification after grouping (ICP, surface and free-space checks, colour).
   VerificationOptions verify;
   /// Replace the radii above (keypoints, SHOT, LRF, Hough bin, pose inliers) by ones fitted to
@@ -119,6 +126,7 @@ struct RecognitionOptions {
     a->Visit("consensus_grouping", &consensus_grouping);
     a->Visit("consensus_min_votes", &consensus_min_votes);
     a->Visit("min_vote_significance", &min_vote_significance);
+    a->Visit("table_keypoint_distance_m", &table_keypoint_distance_m);
     a->Visit("consensus_max_hypotheses", &consensus_max_hypotheses);
     verify.Serialize(a);
   }

@@ -139,7 +139,9 @@ ViewAlignment AlignViews(const ModelDescription& a, const Cloud& b, const Alignm
   ViewAlignment out;
   SceneQuery query;
   query.foveated = false;
-  const RecognitionResult r = Recognize(a, b, query, o.recognition);
+  RecognitionOptions recognition = o.recognition;
+  recognition.table_keypoint_distance_m = 0;  // b is an object cut out: no table around it
+  const RecognitionResult r = Recognize(a, b, query, recognition);
   if (r.instances.empty()) return out;
   const Detection& best = r.instances.front();
   out.confidence = best.confidence;

@@ -2,6 +2,7 @@
 // ground truth, beside PCL's stock stages; verification there. The stages' guarantees on
 // hand-made inputs are in grouping_test, model_test, shot_test and neighbor_search_test.
 #include "core/recognition.h"
+#include "core/candidates.h"
 #include "core/eval/reference_pipeline.h"
 #include "io/formats/cloud_io.h"
 #include "support/test_data.h"
@@ -196,6 +197,43 @@ TEST(MinVoteSignificance, VerifiesOnlyVotesThatStandOutOfTheModelsMatches) {
   EXPECT_GE(few, 1u);
 }
 
+// By default no keypoint near the frame's table is described (a large share of a whole frame's
+// are), and the carton standing on it is found as before.
+TEST(TableKeypoints, AreNotDescribedAndTheCartonOnTheTableIsStillFound) {
+  SACCADE_REQUIRE_DATA(kScene);
+  SACCADE_REQUIRE_DATA(kMilkModel);
+  const auto milk = DescribedMilk();
+  ASSERT_TRUE(milk);
+  const auto& [model, truth] = *milk;
+  const Cloud scene = Load(kScene);
+  const auto table = TablePlane(scene, CandidateOptions{});
+  ASSERT_TRUE(table) << "the milk scene stands on a table";
+  SceneQuery q;
+  q.foveated = false;
+  RecognitionOptions o = RadiiForModel(RecognitionOptions{}, model->scale());
+  o.table_keypoint_distance_m = 0;
+  std::string error;
+  const auto all = DescribeScene(scene, q, o, SerialFor, &error);
+  ASSERT_TRUE(all) << error;
+  EXPECT_EQ(all->stats.table_keypoints, 0u);
+  o.table_keypoint_distance_m = 0.015f;
+  const auto off_table = DescribeScene(scene, q, o, SerialFor, &error);
+  ASSERT_TRUE(off_table) << error;
+  const std::size_t skipped = off_table->stats.table_keypoints;
+  EXPECT_GT(skipped, all->descriptors.size() / 4) << "most of a tabletop frame is table";
+  EXPECT_LT(off_table->descriptors.size(), all->descriptors.size() - skipped / 2);
+  for (int k : off_table->descriptors.keypoint) {
+    const Eigen::Vector3f p = scene[std::size_t(k)].getVector3fMap();
+    ASSERT_GT(std::abs(table->head<3>().dot(p) + (*table)[3]), 0.015f) << "keypoint " << k;
+  }
+  ExpectFoundAt(Recognize(*model, scene, q, RecognitionOptions{}), *model, *truth);
+  // The carton cut out of the frame (NaN around it) has a largest face, and it is no table.
+  Cloud cut = scene;
+  for (PointT& p : cut.points)
+    if ((p.getVector3fMap() - kCartonCentre).norm() > 0.12f) p.x = p.y = p.z = NAN;
+  EXPECT_FALSE(TablePlane(cut, CandidateOptions{}));
+}
+
 TEST(RecognitionOptions, InvalidValuesNameTheField) {
   RecognitionOptions o;
   o.hough_bin_m = 0;
@@ -210,6 +248,10 @@ TEST(RecognitionOptions, InvalidValuesNameTheField) {
   o.min_vote_significance = -1;
   EXPECT_FALSE(o.IsValid(&error));
   EXPECT_NE(error.find("min_vote_significance"), std::string::npos);
+  o = RecognitionOptions{};
+  o.table_keypoint_distance_m = -0.01f;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("table_keypoint_distance_m"), std::string::npos);
 }
 
 TEST(VerifyInstances, KeepsTheTruePoseAndRejectsWrongOnes) {

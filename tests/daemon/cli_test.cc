@@ -1077,7 +1077,8 @@ TEST(Cli, EvalCrossCaptureCasesVerificationKeepsTheObjectAndDropsTheFalseOnes) {
   const std::string configs = WriteFile("cases_configs.yaml",
                                         "defaults:\n"
                                         "  recognition: {radii_from_model: false, "
-                                        "max_support_half_window_px: 0}\n"
+                                        "max_support_half_window_px: 0, "
+                                        "table_keypoint_distance_m: 0}\n"
                                         "configurations:\n"
                                         "  - {name: loosened, " +
                                             loose +
