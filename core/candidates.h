@@ -115,15 +115,15 @@ struct CandidateStats {
   bool plane_found = false;
 };
 
-/// The candidates of an organized frame, best first, at most max_candidates and no two closer
-/// than the model's radius. Empty when the cloud is not organized or nothing stands out.
-/// Preconditions: options.IsValid(); model.radius_m > 0.
 /// The table: the largest plane of the frame's coarse view (options' stride, z_max, plane
 /// distance), as ProposeCandidates finds it; nullopt when it covers less than
 /// min_plane_fraction of the image's pixels (finite or not: a cut-out object's face is no
 /// table).
 std::optional<Eigen::Vector4f> TablePlane(const Cloud& organized, const CandidateOptions& options);
 
+/// The candidates of an organized frame, best first, at most max_candidates and no two closer
+/// than the model's radius. Empty when the cloud is not organized or nothing stands out.
+/// Preconditions: options.IsValid(); model.radius_m > 0.
 std::vector<Candidate> ProposeCandidates(const Cloud& organized, const CameraIntrinsics& intrinsics,
                                          const ModelSignature& model,
                                          const CandidateOptions& options,

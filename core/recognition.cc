@@ -1,7 +1,6 @@
 #include "core/recognition.h"
 
 #include "core/candidates.h"
-
 #include "core/check.h"
 #include "core/fail.h"
 #include "core/nearest_within.h"

@@ -54,6 +54,19 @@ DescribedMilk() {
   return std::make_pair(std::move(model), truth);
 }
 
+// The milk model, its true pose and the scene it is searched in (nullopt, the failure
+// reported, when any cannot be had).
+struct MilkInScene {
+  ModelDescription model;
+  Eigen::Matrix4f truth;
+  Cloud scene;
+};
+std::optional<MilkInScene> DescribedMilkInScene() {
+  auto milk = DescribedMilk();
+  if (!milk) return std::nullopt;
+  return MilkInScene{std::move(*milk->first), *milk->second, Load(kScene)};
+}
+
 // Exactly one instance, within 1 cm at the model centroid and 3 degrees of the truth.
 void ExpectFoundAt(const RecognitionResult& r, const ModelDescription& model,
                    const Eigen::Matrix4f& truth) {
@@ -167,24 +180,23 @@ TEST(FitRadii, MilkCartonIsFoundWithRadiiFittedToItsModel) {
 TEST(MinVoteSignificance, VerifiesOnlyVotesThatStandOutOfTheModelsMatches) {
   SACCADE_REQUIRE_DATA(kScene);
   SACCADE_REQUIRE_DATA(kMilkModel);
-  const auto milk = DescribedMilk();
+  const auto milk = DescribedMilkInScene();
   ASSERT_TRUE(milk);
-  const auto& [model, truth] = *milk;
-  const Cloud scene = Load(kScene);
+  const auto& [model, truth, scene] = *milk;
   SceneQuery q;
   q.fovea_m = kCartonCentre;
   RecognitionOptions o;
   o.min_vote_significance = 0;
-  const RecognitionResult all = Recognize(*model, scene, q, o);
-  ExpectFoundAt(all, *model, *truth);
+  const RecognitionResult all = Recognize(model, scene, q, o);
+  ExpectFoundAt(all, model, truth);
   const double z = all.instances[0].votes / std::sqrt(double(all.stats.correspondences));
   ASSERT_GT(z, 0.2) << "the carton's votes should stand out of its matches";
 
   o.min_vote_significance = float(z * 0.99);
-  ExpectFoundAt(Recognize(*model, scene, q, o), *model, *truth);
+  ExpectFoundAt(Recognize(model, scene, q, o), model, truth);
 
   o.min_vote_significance = float(z * 1.01);
-  const RecognitionResult above = Recognize(*model, scene, q, o);
+  const RecognitionResult above = Recognize(model, scene, q, o);
   EXPECT_TRUE(above.instances.empty());
   ASSERT_EQ(above.verdicts.size(), above.hypotheses.size());
   std::size_t few = 0;
@@ -202,15 +214,14 @@ TEST(MinVoteSignificance, VerifiesOnlyVotesThatStandOutOfTheModelsMatches) {
 TEST(TableKeypoints, AreNotDescribedAndTheCartonOnTheTableIsStillFound) {
   SACCADE_REQUIRE_DATA(kScene);
   SACCADE_REQUIRE_DATA(kMilkModel);
-  const auto milk = DescribedMilk();
+  const auto milk = DescribedMilkInScene();
   ASSERT_TRUE(milk);
-  const auto& [model, truth] = *milk;
-  const Cloud scene = Load(kScene);
+  const auto& [model, truth, scene] = *milk;
   const auto table = TablePlane(scene, CandidateOptions{});
   ASSERT_TRUE(table) << "the milk scene stands on a table";
   SceneQuery q;
   q.foveated = false;
-  RecognitionOptions o = RadiiForModel(RecognitionOptions{}, model->scale());
+  RecognitionOptions o = RadiiForModel(RecognitionOptions{}, model.scale());
   o.table_keypoint_distance_m = 0;
   std::string error;
   const auto all = DescribeScene(scene, q, o, SerialFor, &error);
@@ -226,7 +237,7 @@ TEST(TableKeypoints, AreNotDescribedAndTheCartonOnTheTableIsStillFound) {
     const Eigen::Vector3f p = scene[std::size_t(k)].getVector3fMap();
     ASSERT_GT(std::abs(table->head<3>().dot(p) + (*table)[3]), 0.015f) << "keypoint " << k;
   }
-  ExpectFoundAt(Recognize(*model, scene, q, RecognitionOptions{}), *model, *truth);
+  ExpectFoundAt(Recognize(model, scene, q, RecognitionOptions{}), model, truth);
   // The carton cut out of the frame (NaN around it) has a largest face, and it is no table.
   Cloud cut = scene;
   for (PointT& p : cut.points)
